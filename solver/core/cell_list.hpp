@@ -1,0 +1,206 @@
+// Cell-linked list neighbour search, O(N) per build.
+//
+// build() bins particles into cells of edge >= the support radius, sorts them by cell with a
+// counting sort (histogram, prefix sum, scatter) and reorders every particle field through that
+// permutation, so that the particles of one cell, and of one x-row of cells, are contiguous in
+// memory. Cells are numbered x-fastest: the 3 cells of a neighbouring x-row form one contiguous
+// particle range, so a particle's candidates are 3 ranges in 2D and 9 in 3D, each a straight
+// streaming loop (DualSPHysics and SPHinXsys do the same; ../notes/performance.md).
+//
+// Periodic axes: positions are wrapped into the box and a neighbour cell that wraps around
+// contributes the image shift to r_ij = r_i - r_j, so r_ij is always the minimum image. A periodic
+// axis needs at least 3 cells (box length >= 3 support radii) so that no cell is visited twice.
+// Non-periodic axes follow the particles' bounding box at every build.
+#pragma once
+
+#include "core/domain.hpp"
+#include "core/particles.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sph {
+
+template <int D>
+class CellList {
+public:
+  CellList(const Domain<D>& domain, double support) : domain_(domain), support_(support) {
+    if (!(support > 0.0))
+      throw std::invalid_argument("CellList: support radius must be > 0");
+    for (int a = 0; a < D; ++a) {
+      if (!domain.periodic[a])
+        continue;
+      const double L = domain.hi[a] - domain.lo[a];
+      if (std::floor(L / support) < 3.0)
+        throw std::invalid_argument(
+            "CellList: periodic axis " + std::to_string(a) + " has length " + std::to_string(L) +
+            ", needs at least 3 support radii (" + std::to_string(3 * support) + ")");
+    }
+  }
+
+  double support() const { return support_; }
+  const Domain<D>& domain() const { return domain_; }
+
+  // Wraps periodic coordinates, sorts the particles by cell (reordering every field of p).
+  void build(Particles<D>& p) {
+    wrap(p.r);
+    index(p.r);
+    p.reorder(perm_);
+    // Cell of every particle in the new order, for neighbour look-ups.
+    cell_sorted_.resize(perm_.size());
+    for (std::size_t i = 0; i < perm_.size(); ++i)
+      cell_sorted_[i] = cell_[perm_[i]];
+  }
+
+  // Permutation of the last build: new index i holds old index perm()[i].
+  const std::vector<std::uint32_t>& perm() const { return perm_; }
+  std::size_t num_cells() const { return start_.empty() ? 0 : start_.size() - 1; }
+
+  // Calls f(j, r_ij, r2) for every particle j != i with |r_ij|^2 < support^2, where
+  // r_ij = r_i - r_j (minimum image). r must be the positions in the order of the last build.
+  template <class F>
+  void for_each_neighbor(std::size_t i, const std::vector<Vec<D>>& r, F&& f) const {
+    const double s2 = support_ * support_;
+    const Vec<D> ri = r[i];
+    std::array<int, D> c;
+    decode(cell_sorted_[i], c);
+    // Loop over the neighbour rows (all offsets of axes 1..D-1), then the x-range of each row.
+    constexpr int rows = D == 2 ? 3 : 9;
+    for (int row = 0; row < rows; ++row) {
+      Vec<D> shift = Vec<D>::Zero();
+      int off = 0, stride = n_[0];
+      bool skip = false;
+      for (int a = 1; a < D; ++a) {
+        const int d = (a == 1 ? row % 3 : row / 3) - 1;
+        int ca = c[a] + d;
+        if (ca < 0 || ca >= n_[a]) {
+          if (!domain_.periodic[a]) {
+            skip = true;
+            break;
+          }
+          shift[a] = ca < 0 ? len_[a] : -len_[a];
+          ca = ca < 0 ? ca + n_[a] : ca - n_[a];
+        }
+        off += ca * stride;
+        stride *= n_[a];
+      }
+      if (skip)
+        continue;
+      // x-range: contiguous cells [x0, x1] plus, on a periodic x axis, one wrapped cell.
+      int x0 = c[0] - 1, x1 = c[0] + 1;
+      if (x0 < 0) {
+        if (domain_.periodic[0])
+          scan(ri, r, off + n_[0] - 1, off + n_[0] - 1, shift, len_[0], s2, i, f);
+        x0 = 0;
+      }
+      if (x1 >= n_[0]) {
+        if (domain_.periodic[0])
+          scan(ri, r, off, off, shift, -len_[0], s2, i, f);
+        x1 = n_[0] - 1;
+      }
+      scan(ri, r, off + x0, off + x1, shift, 0.0, s2, i, f);
+    }
+  }
+
+private:
+  Domain<D> domain_;
+  double support_;
+  std::array<int, D> n_{};      // cells per axis
+  Vec<D> lo_, cell_size_, len_; // grid origin, cell edge, periodic length
+  std::vector<std::uint32_t> cell_, cell_sorted_, perm_, start_, count_;
+
+  void wrap(std::vector<Vec<D>>& r) const {
+    for (int a = 0; a < D; ++a) {
+      if (!domain_.periodic[a])
+        continue;
+      const double lo = domain_.lo[a], L = domain_.hi[a] - lo;
+      for (auto& x : r) {
+        double y = x[a] - lo;
+        if (y < 0.0 || y >= L) {
+          y -= L * std::floor(y / L);
+          if (y >= L)
+            y = 0.0; // round-off at the top edge
+          x[a] = lo + y;
+        }
+      }
+    }
+  }
+
+  void index(const std::vector<Vec<D>>& r) {
+    const std::size_t N = r.size();
+    Vec<D> lo, hi;
+    if (N > 0) {
+      lo = hi = r[0];
+      for (const auto& x : r)
+        lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    } else {
+      lo = domain_.lo, hi = domain_.hi;
+    }
+    std::size_t total = 1;
+    for (int a = 0; a < D; ++a) {
+      if (domain_.periodic[a]) {
+        lo[a] = domain_.lo[a];
+        len_[a] = domain_.hi[a] - domain_.lo[a];
+        n_[a] = static_cast<int>(std::floor(len_[a] / support_));
+        cell_size_[a] = len_[a] / n_[a];
+      } else {
+        len_[a] = 0.0;
+        n_[a] = std::max(1, static_cast<int>(std::floor((hi[a] - lo[a]) / support_)) + 1);
+        cell_size_[a] = support_;
+      }
+      total *= static_cast<std::size_t>(n_[a]);
+    }
+    lo_ = lo;
+    if (total > (std::size_t{1} << 31))
+      throw std::runtime_error("CellList: too many cells");
+    cell_.resize(N);
+    count_.assign(total + 1, 0);
+    for (std::size_t i = 0; i < N; ++i) {
+      std::uint32_t c = 0, stride = 1;
+      for (int a = 0; a < D; ++a) {
+        int ca = static_cast<int>((r[i][a] - lo_[a]) / cell_size_[a]);
+        ca = std::clamp(ca, 0, n_[a] - 1);
+        c += static_cast<std::uint32_t>(ca) * stride;
+        stride *= static_cast<std::uint32_t>(n_[a]);
+      }
+      cell_[i] = c;
+      ++count_[c + 1];
+    }
+    start_.resize(total + 1);
+    start_[0] = 0;
+    for (std::size_t c = 0; c < total; ++c)
+      start_[c + 1] = start_[c] + count_[c + 1];
+    // Scatter, stable in the old order.
+    perm_.resize(N);
+    for (std::size_t c = 0; c < total; ++c)
+      count_[c] = start_[c];
+    for (std::size_t i = 0; i < N; ++i)
+      perm_[count_[cell_[i]]++] = static_cast<std::uint32_t>(i);
+  }
+
+  void decode(std::uint32_t c, std::array<int, D>& out) const {
+    for (int a = 0; a < D; ++a) {
+      out[a] = static_cast<int>(c % static_cast<std::uint32_t>(n_[a]));
+      c /= static_cast<std::uint32_t>(n_[a]);
+    }
+  }
+
+  template <class F>
+  void scan(const Vec<D>& ri, const std::vector<Vec<D>>& r, int c0, int c1, Vec<D> shift,
+            double xshift, double s2, std::size_t i, F& f) const {
+    shift[0] = xshift;
+    const std::uint32_t b = start_[c0], e = start_[c1 + 1];
+    for (std::uint32_t j = b; j < e; ++j) {
+      const Vec<D> rij = ri - r[j] + shift;
+      const double r2 = rij.squaredNorm();
+      if (r2 < s2 && j != i)
+        f(j, rij, r2);
+    }
+  }
+};
+
+} // namespace sph

@@ -1,0 +1,81 @@
+// Cached neighbour list (compressed rows) with per-pair geometry and kernel values.
+//
+// Iterative schemes (ISPH matrix assembly, ALSPH inner iterations, acoustic sub-steps) evaluate
+// many pair loops on the same configuration; they build this list once per step from the cell list
+// and every later loop streams over it instead of searching again (SPHinXsys keeps a Neighborhood
+// per particle for the same reason; ../notes/performance.md).
+//
+// Per ordered pair (i, j != i): j, r_ij = r_i - r_j (minimum image), r = |r_ij|, W_ij and
+// dW_ij = dW/dr(r). The kernel gradient is grad_i W_ij = dW_ij r_ij / r (see Pair::grad()).
+#pragma once
+
+#include "core/cell_list.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace sph {
+
+// One neighbour pair as an operator sees it, whichever driver produced it.
+template <int D>
+struct Pair {
+  std::uint32_t j;
+  Vec<D> r_ij; // r_i - r_j
+  double r;    // |r_ij|
+  double W;    // W(r, h)
+  double dW;   // dW/dr at r (<= 0)
+  // grad_i W(r_i - r_j, h)
+  Vec<D> grad() const { return (dW / r) * r_ij; }
+};
+
+template <int D>
+class NeighborList {
+public:
+  std::vector<std::uint32_t> offset; // pairs of particle i are [offset[i], offset[i+1])
+  std::vector<std::uint32_t> j;
+  std::vector<Vec<D>> r_ij;
+  std::vector<double> r, W, dW;
+
+  std::size_t num_pairs() const { return j.size(); }
+  std::size_t num_particles() const { return offset.empty() ? 0 : offset.size() - 1; }
+
+  // Rebuilds from a cell list built on positions x (same order). Reuses capacity: after the
+  // first steps it does not allocate.
+  template <class Kernel>
+  void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const Kernel& kernel) {
+    const std::size_t N = x.size();
+    offset.resize(N + 1);
+    // Pass 1 counts, pass 2 fills (each in parallel over particles).
+    count_.resize(N);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < N; ++i) {
+      std::uint32_t n = 0;
+      cells.for_each_neighbor(i, x, [&](std::uint32_t, const Vec<D>&, double) { ++n; });
+      count_[i] = n;
+    }
+    offset[0] = 0;
+    for (std::size_t i = 0; i < N; ++i)
+      offset[i + 1] = offset[i] + count_[i];
+    const std::size_t P = offset[N];
+    j.resize(P), r_ij.resize(P), r.resize(P), W.resize(P), dW.resize(P);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < N; ++i) {
+      std::uint32_t k = offset[i];
+      cells.for_each_neighbor(i, x, [&](std::uint32_t jj, const Vec<D>& rij, double r2) {
+        const double rr = std::sqrt(r2);
+        j[k] = jj, r_ij[k] = rij, r[k] = rr, W[k] = kernel.W(rr), dW[k] = kernel.dW(rr);
+        ++k;
+      });
+    }
+  }
+
+  Pair<D> pair(std::size_t k) const {
+    return {j[k], r_ij[k], r[k], W[k], dW[k]};
+  }
+
+private:
+  std::vector<std::uint32_t> count_;
+};
+
+} // namespace sph

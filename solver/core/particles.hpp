@@ -1,0 +1,108 @@
+// Particle storage as a structure of arrays, dimension-generic.
+//
+// Common fields are named members (positions r, velocities v, mass m, density rho, pressure p,
+// volume V, kind and original index id). Schemes add their own per-particle fields with
+// add_scalar / add_vector and keep the returned index. reorder() gathers every field through a
+// permutation (used by the cell-linked list after its counting sort); it reuses scratch buffers so
+// that no allocation happens in the time loop after the first call.
+#pragma once
+
+#include "core/vec.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sph {
+
+// What a particle is; boundary treatments and diagnostics select on it.
+enum class Kind : std::uint8_t { Fluid = 0, Wall = 1, Body = 2, Buffer = 3 };
+
+template <int D>
+class Particles {
+public:
+  static constexpr int dim = D;
+
+  std::vector<Vec<D>> r;        // position
+  std::vector<Vec<D>> v;        // velocity
+  std::vector<double> m;        // mass
+  std::vector<double> rho;      // density
+  std::vector<double> p;        // pressure
+  std::vector<double> V;        // volume m/rho or 1/sum_j W_ij, as the scheme defines it
+  std::vector<Kind> kind;       // fluid, wall, body, ...
+  std::vector<std::int64_t> id; // index at creation; survives reordering
+
+  std::size_t size() const { return r.size(); }
+
+  // Appends one particle with zero velocity and pressure; returns its index.
+  std::size_t add(const Vec<D>& position, double mass, double density, Kind k = Kind::Fluid) {
+    r.push_back(position);
+    v.push_back(Vec<D>::Zero());
+    m.push_back(mass);
+    rho.push_back(density);
+    p.push_back(0.0);
+    V.push_back(density > 0 ? mass / density : 0.0);
+    kind.push_back(k);
+    id.push_back(static_cast<std::int64_t>(id.size()));
+    for (auto& f : scalars_)
+      f.data.push_back(0.0);
+    for (auto& f : vectors_)
+      f.data.push_back(Vec<D>::Zero());
+    return r.size() - 1;
+  }
+
+  void reserve(std::size_t n) {
+    r.reserve(n), v.reserve(n), m.reserve(n), rho.reserve(n), p.reserve(n), V.reserve(n);
+    kind.reserve(n), id.reserve(n);
+  }
+
+  // Extra named fields, sized like the particle set and reordered with it.
+  int add_scalar(const std::string& name, double value = 0.0) {
+    scalars_.push_back({name, std::vector<double>(size(), value)});
+    return static_cast<int>(scalars_.size()) - 1;
+  }
+  int add_vector(const std::string& name) {
+    vectors_.push_back({name, std::vector<Vec<D>>(size(), Vec<D>::Zero())});
+    return static_cast<int>(vectors_.size()) - 1;
+  }
+  std::vector<double>& scalar(int k) { return scalars_[k].data; }
+  const std::vector<double>& scalar(int k) const { return scalars_[k].data; }
+  std::vector<Vec<D>>& vector(int k) { return vectors_[k].data; }
+  const std::vector<Vec<D>>& vector(int k) const { return vectors_[k].data; }
+
+  // new[i] = old[perm[i]] for every field.
+  void reorder(const std::vector<std::uint32_t>& perm) {
+    gather(r, perm, vbuf_), gather(v, perm, vbuf_);
+    gather(m, perm, sbuf_), gather(rho, perm, sbuf_), gather(p, perm, sbuf_);
+    gather(V, perm, sbuf_);
+    gather(kind, perm, kbuf_), gather(id, perm, ibuf_);
+    for (auto& f : scalars_)
+      gather(f.data, perm, sbuf_);
+    for (auto& f : vectors_)
+      gather(f.data, perm, vbuf_);
+  }
+
+private:
+  template <class T>
+  struct Field {
+    std::string name;
+    std::vector<T> data;
+  };
+  std::vector<Field<double>> scalars_;
+  std::vector<Field<Vec<D>>> vectors_;
+  std::vector<double> sbuf_;
+  std::vector<Vec<D>> vbuf_;
+  std::vector<Kind> kbuf_;
+  std::vector<std::int64_t> ibuf_;
+
+  template <class T>
+  static void gather(std::vector<T>& a, const std::vector<std::uint32_t>& perm,
+                     std::vector<T>& buf) {
+    buf.resize(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i)
+      buf[i] = a[perm[i]];
+    a.swap(buf);
+  }
+};
+
+} // namespace sph

@@ -1,0 +1,94 @@
+// The viscous Laplacian chosen by the study's string (visc = "visc01".."visc04"), seed 001
+// section 3. Owns the work arrays the corrected forms need (Gamma, tr B, grad u), so a scheme calls
+//   lap.prepare(nl, V)     once per particle configuration (Gamma, tr B: VISC-03/04), then
+//   lap.apply(nl, V, u, out) for each field (every call after the first allocates nothing).
+#pragma once
+
+#include "operators/correction_matrix.hpp"
+#include "operators/visc01.hpp"
+#include "operators/visc02.hpp"
+#include "operators/visc03.hpp"
+#include "operators/visc04.hpp"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sph {
+
+enum class ViscForm { Visc01, Visc02, Visc03, Visc04 };
+
+inline const std::vector<std::string>& visc_names() {
+  static const std::vector<std::string> names{"visc01", "visc02", "visc03", "visc04"};
+  return names;
+}
+
+inline ViscForm parse_visc(const std::string& name) {
+  const auto& n = visc_names();
+  for (std::size_t k = 0; k < n.size(); ++k)
+    if (n[k] == name)
+      return static_cast<ViscForm>(k);
+  throw std::invalid_argument("unknown viscous Laplacian '" + name + "'");
+}
+
+template <int D, class T, class Kernel>
+class ViscousLaplacian {
+public:
+  ViscousLaplacian(ViscForm form, const Kernel& kernel, double eta)
+      : form_(form), kernel_(kernel), eta2_(eta * eta) {}
+
+  ViscForm form() const { return form_; }
+  const std::vector<Mat<D>>& gamma() const { return gamma_; }
+
+  // Per-configuration work: the correction matrix for VISC-03 and VISC-04.
+  template <class Select = AllParticles>
+  void prepare(const NeighborList<D>& nl, const std::vector<double>& V, Select select = {}) {
+    if (form_ != ViscForm::Visc03 && form_ != ViscForm::Visc04)
+      return;
+    gamma_.resize(nl.num_particles());
+    h_bb_.resize(nl.num_particles());
+    CorrectionMatrix<D> op{V, gamma_, h_bb_};
+    interact(nl, op, select);
+  }
+
+  template <class Select = AllParticles>
+  void apply(const NeighborList<D>& nl, const std::vector<double>& V, const std::vector<T>& u,
+             std::vector<T>& out, Select select = {}) {
+    out.resize(u.size());
+    switch (form_) {
+    case ViscForm::Visc01: {
+      Visc01<D, T> op{V, u, eta2_, out};
+      interact(nl, op, select);
+      break;
+    }
+    case ViscForm::Visc02: {
+      Visc02<D, T, Kernel> op{V, u, kernel_, out};
+      interact(nl, op, select);
+      break;
+    }
+    case ViscForm::Visc03: {
+      grad_u_.resize(u.size());
+      CorrectedGradient<D, T> g{V, gamma_, u, grad_u_};
+      interact(nl, g, select);
+      Visc03<D, T> op{V, u, grad_u_, h_bb_, eta2_, out};
+      interact(nl, op, select);
+      break;
+    }
+    case ViscForm::Visc04: {
+      Visc04<D, T> op{V, u, gamma_, eta2_, out};
+      interact(nl, op, select);
+      break;
+    }
+    }
+  }
+
+private:
+  ViscForm form_;
+  Kernel kernel_;
+  double eta2_;
+  std::vector<Mat<D>> gamma_;
+  std::vector<double> h_bb_;
+  std::vector<Grad<D, T>> grad_u_;
+};
+
+} // namespace sph
