@@ -70,11 +70,20 @@ struct RunResult {
   void add(const std::string& name, double value) { metrics.emplace_back(name, value); }
 };
 
+// A time integrator family (isph, wcsph_tvf, contact, alsph): its own parameters, shared by every
+// case it runs. A study names `scheme = "isph"`; the job's parameters are the case's plus the
+// scheme's, and Params carries the scheme's name under the key "scheme".
+struct SchemeInfo {
+  std::string name;
+  std::string description; // one line, with the paper
+  std::vector<ParamSpec> params;
+};
+
 struct CaseInfo {
   std::string name;
   std::string description;          // one line, with the paper and section
-  std::vector<std::string> schemes; // schemes this case runs with (empty: none needed)
-  std::vector<ParamSpec> params;
+  std::vector<std::string> schemes; // schemes this case runs with (empty: none; first = default)
+  std::vector<ParamSpec> params;    // the case's own parameters (geometry, physics, diagnostics)
   std::function<RunResult(const Params&, const RunContext&)> run;
 };
 
@@ -82,6 +91,10 @@ struct CaseInfo {
 const std::vector<CaseInfo>& case_registry();
 // nullptr when no case has that name.
 const CaseInfo* find_case(const std::string& name);
+
+// All registered schemes (schemes/registry.cpp), and look-up by name (nullptr if unknown).
+const std::vector<SchemeInfo>& scheme_registry();
+const SchemeInfo* find_scheme(const std::string& name);
 
 // Version of the numerics; enters every job key. Bump when a change alters results of existing
 // parameter sets, so that old and new results never share a key.

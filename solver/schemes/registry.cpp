@@ -1,0 +1,19 @@
+// Registry of schemes (time-integrator families): one line per scheme. Each scheme folder
+// (schemes/<name>/) defines `SchemeInfo make_<name>_scheme()` with its parameters.
+#include "cases/case.hpp"
+
+namespace sph {
+
+const std::vector<SchemeInfo>& scheme_registry() {
+  static const std::vector<SchemeInfo> schemes{
+  };
+  return schemes;
+}
+
+const SchemeInfo* find_scheme(const std::string& name) {
+  for (const auto& s : scheme_registry())
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+} // namespace sph
