@@ -6,10 +6,12 @@
 namespace sph {
 
 CaseInfo make_patch_test_case();
+CaseInfo make_shear_layer_case();
 
 const std::vector<CaseInfo>& case_registry() {
   static const std::vector<CaseInfo> cases{
       make_patch_test_case(),
+      make_shear_layer_case(),
   };
   return cases;
 }

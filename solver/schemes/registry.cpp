@@ -4,8 +4,11 @@
 
 namespace sph {
 
+SchemeInfo make_contact_scheme();
+
 const std::vector<SchemeInfo>& scheme_registry() {
   static const std::vector<SchemeInfo> schemes{
+      make_contact_scheme(),
   };
   return schemes;
 }

@@ -1,0 +1,237 @@
+// Tests of scheme "contact" (seed 003, Parshikov et al.), the shear-layer fit and case.
+#include "cases/case.hpp"
+#include "core/kernels/cubic_spline.hpp"
+#include "core/kernels/wendland_c2.hpp"
+#include "core/lattice.hpp"
+#include "diagnostics/erf_fit.hpp"
+#include "schemes/contact/contact.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace sph;
+using namespace sph::contact;
+
+// Eqs. (8)-(9): equal states exchange nothing; a symmetric collision stops at the contact with
+// P* = Z u (the acoustic impedance times the approach speed).
+TEST(ContactRiemann, EqualStatesGiveTheirOwnState) {
+  const auto s = acoustic_riemann(3.0e5, 12.0, 2.2e7, 3.0e5, 12.0, 2.2e7);
+  EXPECT_DOUBLE_EQ(s.P, 3.0e5);
+  EXPECT_DOUBLE_EQ(s.U, 12.0);
+}
+
+TEST(ContactRiemann, SymmetricCollision) {
+  const double Z = 11350.0 * 1931.7, u = 40.0;
+  const auto s = acoustic_riemann(0.0, u, Z, 0.0, -u, Z);
+  EXPECT_NEAR(s.P, Z * u, 1e-9 * Z * u);
+  EXPECT_NEAR(s.U, 0.0, 1e-12);
+  // Separation gives tension of the same size.
+  EXPECT_NEAR(acoustic_riemann(0.0, -u, Z, 0.0, u, Z).P, -Z * u, 1e-9 * Z * u);
+  // A rigid (infinite-impedance) partner: the contact does not move, P* = P_i + Z_i u_i.
+  const auto w = acoustic_riemann(1.0e5, u, Z, 0.0, 0.0, 1e12 * Z);
+  EXPECT_NEAR(w.U, 0.0, 1e-9 * u);
+  EXPECT_NEAR(w.P, 1.0e5 + Z * u, 1e-6 * Z * u);
+}
+
+TEST(ContactRiemann, ViscousContact) {
+  // Eqs. (27), (30)-(32): two equal fluids have eta_ij = eta and U* = mean; an inviscid partner
+  // transmits no shear.
+  const auto a = viscous_side(2.3e-3, 11350.0);
+  EXPECT_NEAR(contact_viscosity(a, a), 2.3e-3, 1e-15);
+  EXPECT_DOUBLE_EQ(contact_weight(a, a, 1.0, 2.0), 0.5);
+  EXPECT_EQ(contact_viscosity(a, viscous_side(0.0, 1000.0)), 0.0);
+  // Against the paper's form eta_i eta_j (1 + s) / (eta_i + eta_j s), s = sqrt(nu_i / nu_j).
+  const double ei = 0.08, ri = 910.0, ej = 1.48, rj = 1250.0;
+  const double s = std::sqrt((ei / ri) / (ej / rj));
+  const auto I = viscous_side(ei, ri), J = viscous_side(ej, rj);
+  EXPECT_NEAR(contact_viscosity(I, J), ei * ej * (1 + s) / (ei + ej * s), 1e-14);
+  EXPECT_NEAR(contact_weight(I, J, 1, 1), ei / (ei + ej * s), 1e-14);
+}
+
+namespace {
+
+// A periodic box of n^D particles of two materials with perturbed density and velocity.
+template <int D, class K>
+struct Box {
+  Particles<D> p;
+  Fields f;
+  Domain<D> box;
+  Options o;
+  double D0 = 1e-8;
+
+  explicit Box(int n, double zeta, bool uniform) {
+    f = Fields::add_to(p);
+    std::array<int, D> lo{}, hi{};
+    hi.fill(n);
+    UniformRandom rn(7);
+    for_each_lattice_point<D>(lo, hi, D0, [&](Vec<D> x, const std::array<int, D>& idx) {
+      const bool heavy = !uniform && idx[0] < n / 2;
+      const double rho0 = heavy ? 11350.0 : 1000.0, c0 = heavy ? 1931.7 : 1483.0;
+      const double eta = heavy ? 2.3e-3 : 1.0e-3;
+      const double rho = uniform ? rho0 : rho0 * (1.0 + 0.01 * (rn() - 0.5));
+      const std::size_t i = p.add(x, rho0 * std::pow(D0, D), rho);
+      for (int a = 0; a < D; ++a)
+        p.v[i][a] = uniform ? 30.0 * (a + 1) : 50.0 * (rn() - 0.5);
+      p.scalar(f.rho0)[i] = rho0;
+      p.scalar(f.c0)[i] = c0;
+      p.scalar(f.eta)[i] = eta;
+      p.scalar(f.e)[i] = 1.0e3;
+    });
+    box.lo.setZero();
+    box.hi.setConstant(n * D0);
+    box.periodic.fill(true);
+    o.zeta = zeta;
+  }
+  Vec<D> momentum() const {
+    Vec<D> P = Vec<D>::Zero();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      P += p.m[i] * p.v[i];
+    return P;
+  }
+  double energy() const {
+    double E = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      E += p.m[i] * (p.scalar(f.e)[i] + 0.5 * p.v[i].squaredNorm());
+    return E;
+  }
+};
+
+template <int D, class K>
+void check_conservation(int n, int steps) {
+  Box<D, K> b(n, 0.7, false);
+  Scheme<D, K> s(b.p, b.f, b.box, b.o);
+  s.init();
+  double mass = 0.0, pscale = 0.0;
+  for (std::size_t i = 0; i < b.p.size(); ++i)
+    mass += b.p.m[i], pscale += b.p.m[i] * b.p.v[i].norm();
+  const Vec<D> P0 = b.momentum();
+  const double E0 = b.energy();
+  double max_dv = 0.0;
+  const Vec<D> v_first = b.p.v[0];
+  for (int k = 0; k < steps; ++k)
+    s.step(s.stable_dt());
+  for (std::size_t i = 0; i < b.p.size(); ++i)
+    max_dv = std::max(max_dv, (b.p.v[i] - v_first).norm());
+  double mass1 = 0.0;
+  for (std::size_t i = 0; i < b.p.size(); ++i)
+    mass1 += b.p.m[i];
+  EXPECT_NEAR(mass1 / mass, 1.0, 1e-14); // m is constant; only the summation order changes
+  EXPECT_LT((b.momentum() - P0).norm() / pscale, 1e-14);
+  EXPECT_LT(std::abs(b.energy() - E0) / E0, 1e-14);
+  EXPECT_GT(max_dv, 1.0); // the state did evolve
+}
+
+} // namespace
+
+TEST(ContactScheme, ConservesMomentumAndEnergy2D) {
+  check_conservation<2, WendlandC2<2>>(12, 30);
+  check_conservation<2, CubicSpline<2>>(12, 30);
+}
+
+TEST(ContactScheme, ConservesMomentumAndEnergy3D) {
+  check_conservation<3, WendlandC2<3>>(8, 10);
+}
+
+// Equal states on a uniform periodic lattice: no flux, nothing changes but the positions.
+TEST(ContactScheme, UniformStateIsSteady) {
+  Box<3, WendlandC2<3>> b(8, 1.0, true);
+  Scheme<3, WendlandC2<3>> s(b.p, b.f, b.box, b.o);
+  s.init();
+  const Vec<3> v0 = b.p.v[0];
+  for (int k = 0; k < 5; ++k)
+    s.step(s.stable_dt());
+  for (std::size_t i = 0; i < b.p.size(); ++i) {
+    EXPECT_LT((b.p.v[i] - v0).norm(), 1e-9 * v0.norm());
+    EXPECT_NEAR(b.p.rho[i], 1000.0, 1e-9);
+  }
+}
+
+// The fit recovers nu exactly from the model's own profile: one fluid with wall images (also
+// once the layer has reached the walls), and two fluids.
+TEST(ErfFit, RecoversKnownViscosity) {
+  const double L = 400e-9, t = 4e-9;
+  for (double nu : {1.7e-6, 2.0e-7, 3.0e-5}) {
+    ShearLayer s{500.0, L, 3};
+    std::vector<double> x, u;
+    for (int k = 0; k < 80; ++k) {
+      x.push_back(-L + (k + 0.5) * 10e-9);
+      u.push_back(shear_layer_u(s, x.back(), t, nu));
+    }
+    const ErfFit f = fit_shear_layer(s, x, u, t);
+    EXPECT_TRUE(f.converged);
+    EXPECT_NEAR(f.nu / nu, 1.0, 1e-9) << nu;
+    EXPECT_LT(f.rms, 1e-10);
+  }
+  ShearLayer s2{1.0, 0.0, 0};
+  std::vector<double> x, u;
+  const double nul = 0.08 / 910.0, nur = 1.48 / 1250.0, t2 = 2e-6;
+  for (int k = 0; k < 60; ++k) {
+    x.push_back(-300e-6 + (k + 0.5) * 10e-6);
+    u.push_back(shear_layer_u2(s2, x.back(), t2, nul, 910.0, nur, 1250.0));
+  }
+  const ErfFit f = fit_shear_layer2(s2, x, u, t2, 910.0, 1250.0);
+  EXPECT_NEAR(f.nu_left / nul, 1.0, 1e-8);
+  EXPECT_NEAR(f.nu_right / nur, 1.0, 1e-8);
+}
+
+TEST(ErfFit, ImagesMakeSlipWalls) {
+  // du/dx = 0 at the walls and the mean velocity (momentum) is zero for all times.
+  ShearLayer s{1.0, 1.0, 4};
+  const double nu = 0.3, t = 1.0, h = 1e-6;
+  EXPECT_NEAR((shear_layer_u(s, 1.0 + h, t, nu) - shear_layer_u(s, 1.0 - h, t, nu)) / (2 * h), 0.0,
+              1e-6);
+  EXPECT_NEAR(shear_layer_u(s, 0.3, t, nu), -shear_layer_u(s, -0.3, t, nu), 1e-15);
+}
+
+namespace {
+Params shear_params() {
+  const CaseInfo* c = find_case("shear_layer");
+  Params prm;
+  for (const auto& s : c->params)
+    prm[s.name] = s.default_value;
+  for (const auto& s : find_scheme("contact")->params)
+    prm[s.name] = s.default_value;
+  return prm;
+}
+double metric(const RunResult& r, const std::string& name) {
+  for (const auto& [k, v] : r.metrics)
+    if (k == name)
+      return v;
+  ADD_FAILURE() << "no metric " << name;
+  return NAN;
+}
+} // namespace
+
+// A short 2D shear layer of a liquid whose physical viscosity (5 mPa s) is about 4 times the
+// scheme's numerical one (eq. 37: 1.34 mPa s at D0 = 10 nm, Z = 1.5e6): with zeta = 1 the fitted
+// viscosity must be the physical one. Tolerance 12%: the pair stresses (30)-(32) sum to
+// eta (1 + 1/(3(d+2))) times the Laplacian for a shear flow, +8.3% in 2D (docs/contact.md), and
+// eq. (37), fitted by the paper to its 3D runs, leaves about +-0.1 eta_num = +-3% of eta
+// uncorrected in 2D; measured: +6.6%. Without the correction (zeta = 0) the same run gives +34%,
+// so the bound separates the two.
+TEST(ShearLayerCase, CorrectionRecoversPhysicalViscosity) {
+  Params prm = shear_params();
+  prm["dim"] = std::int64_t{2};
+  prm["material"] = std::string("custom");
+  prm["rho0"] = 1000.0, prm["c0"] = 1500.0, prm["eta"] = 5e-3;
+  prm["U0"] = 100.0, prm["D0"] = 1e-8, prm["t_end"] = 3.2e-10;
+  prm["nx"] = std::int64_t{40}, prm["ny"] = std::int64_t{8};
+  RunContext ctx;
+  prm["zeta"] = 1.0;
+  const RunResult on = find_case("shear_layer")->run(prm, ctx);
+  ASSERT_EQ(on.status, RunStatus::Done) << on.message;
+  EXPECT_NEAR(metric(on, "eta_fit") / 5e-3, 1.0, 0.12);
+  EXPECT_LT(metric(on, "eta_fit_spread"), 0.05);
+  prm["zeta"] = 0.0;
+  const RunResult off = find_case("shear_layer")->run(prm, ctx);
+  ASSERT_EQ(off.status, RunStatus::Done) << off.message;
+  EXPECT_GT(metric(off, "eta_fit") / 5e-3, 1.2);
+  EXPECT_LT(metric(on, "profile_err"), metric(off, "profile_err"));
+}
+
+TEST(ShearLayerCase, RejectsBadEtaNum) {
+  Params prm = shear_params();
+  prm["eta_num"] = std::string("lots");
+  EXPECT_THROW(find_case("shear_layer")->run(prm, RunContext{}), std::invalid_argument);
+}
