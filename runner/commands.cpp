@@ -1,0 +1,384 @@
+// Read-only commands over the store: query, status, cases, table, export.
+#include "commands.hpp"
+
+#include "diagnostics.hpp"
+#include "params.hpp"
+#include "progress.hpp"
+#include "store.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <vector>
+
+namespace sph::runner {
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos)
+    return s;
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"')
+      q += '"';
+    q += c;
+  }
+  return q + "\"";
+}
+
+namespace {
+
+std::string cell(const Stmt& s, int i) {
+  switch (s.type(i)) {
+  case SQLITE_NULL:
+    return "";
+  case SQLITE_INTEGER:
+    return std::to_string(s.integer(i));
+  case SQLITE_FLOAT: {
+    std::string r = format_real(s.real(i));
+    return r;
+  }
+  default:
+    return s.text(i);
+  }
+}
+
+bool only_space(const char* p) {
+  for (; p && *p; ++p)
+    if (!std::isspace(static_cast<unsigned char>(*p)))
+      return false;
+  return true;
+}
+
+std::int64_t study_id(Db& db, const std::string& name) {
+  Stmt q = db.prepare("SELECT id FROM studies WHERE name=?");
+  q.bind(1, name);
+  if (q.step())
+    return q.integer(0);
+  std::vector<std::string> names;
+  Stmt all = db.prepare("SELECT name FROM studies ORDER BY name");
+  while (all.step())
+    names.push_back(all.text(0));
+  throw std::runtime_error("no study named '" + name + "' in the database" +
+                           did_you_mean(name, names) +
+                           (names.empty() ? "" : "; studies: " + quoted_list(names)));
+}
+
+std::string json_path(const std::string& param) {
+  for (char c : param)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_')
+      throw std::runtime_error("bad parameter name '" + param + "'");
+  return "$." + param;
+}
+
+} // namespace
+
+int cmd_query(const std::filesystem::path& db_path, const std::string& sql, std::ostream& out) {
+  Store store = Store::open_read(db_path);
+  sqlite3_stmt* raw = nullptr;
+  const char* tail = nullptr;
+  int rc = sqlite3_prepare_v2(store.db().handle(), sql.c_str(), -1, &raw, &tail);
+  if (rc != SQLITE_OK)
+    throw std::runtime_error(std::string("SQL error: ") + sqlite3_errmsg(store.db().handle()));
+  sqlite3_finalize(raw);
+  if (!only_space(tail))
+    throw std::runtime_error("runner query runs one SQL statement; remove what follows '" +
+                             sql.substr(0, static_cast<std::size_t>(tail - sql.c_str())) + "'");
+  Stmt s = store.db().prepare(sql);
+  int n = s.columns();
+  for (int i = 0; i < n; ++i)
+    out << (i ? "," : "") << csv_field(s.column_name(i));
+  out << "\n";
+  while (s.step()) {
+    for (int i = 0; i < n; ++i)
+      out << (i ? "," : "") << csv_field(cell(s, i));
+    out << "\n";
+  }
+  return 0;
+}
+
+int cmd_status(const std::filesystem::path& db_path, const std::string& study, std::ostream& out) {
+  Store store = Store::open_read(db_path);
+  Db& db = store.db();
+  std::optional<std::int64_t> sid;
+  if (!study.empty())
+    sid = study_id(db, study);
+  double now = unix_now();
+
+  static const char* states[] = {"pending", "submitted", "running", "done",
+                                 "failed",  "diverged",  "timeout"};
+  std::string where = sid ? " WHERE s.id=" + std::to_string(*sid) : "";
+  Stmt q = db.prepare("SELECT s.name, sj.tier, j.state, count(*) FROM studies s JOIN study_jobs "
+                      "sj ON sj.study_id=s.id JOIN jobs j ON j.id=sj.job_id" +
+                      where + " GROUP BY s.name, sj.tier, j.state ORDER BY s.name, sj.tier");
+  std::map<std::pair<std::string, std::string>, std::map<std::string, std::int64_t>> table;
+  while (q.step())
+    table[{q.text(0), q.text(1)}][q.text(2)] = q.integer(3);
+  if (table.empty())
+    out << "no jobs" << (study.empty() ? "" : " in study '" + study + "'") << "\n";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%-24s %-8s %7s", "study", "tier", "total");
+  out << buf;
+  for (const char* s : states) {
+    std::snprintf(buf, sizeof buf, " %8s", s);
+    out << buf;
+  }
+  out << "\n";
+  for (const auto& [k, counts] : table) {
+    std::int64_t total = 0;
+    for (const auto& [s, c] : counts)
+      total += c;
+    std::snprintf(buf, sizeof buf, "%-24s %-8s %7lld", k.first.c_str(), k.second.c_str(),
+                  static_cast<long long>(total));
+    out << buf;
+    for (const char* s : states) {
+      auto it = counts.find(s);
+      std::snprintf(buf, sizeof buf, " %8lld",
+                    static_cast<long long>(it == counts.end() ? 0 : it->second));
+      out << buf;
+    }
+    out << "\n";
+  }
+
+  std::string job_filter =
+      sid ? " AND j.id IN (SELECT job_id FROM study_jobs WHERE study_id=" + std::to_string(*sid) +
+                ")"
+          : "";
+  Stmt r = db.prepare("SELECT j.key, j.owner_host, j.owner_pid, j.heartbeat_at, j.progress, "
+                      "j.params_json FROM jobs j WHERE j.state='running'" +
+                      job_filter + " ORDER BY j.heartbeat_at");
+  bool header = false;
+  while (r.step()) {
+    if (!header)
+      out << "\nrunning jobs:\n", header = true;
+    out << "  " << r.text(0).substr(0, 12) << "  " << r.text(1) << ":" << r.integer(2)
+        << "  heartbeat "
+        << (r.is_null(3) ? std::string("never") : format_duration(now - r.real(3)) + " ago");
+    if (!r.is_null(4)) {
+      std::snprintf(buf, sizeof buf, "  %.0f%%", 100 * r.real(4));
+      out << buf;
+    }
+    out << "  " << r.text(5) << "\n";
+  }
+
+  Stmt e = db.prepare("SELECT j.key, a.attempt, a.state, a.finished_at, a.error_text FROM "
+                      "attempts a JOIN jobs j ON j.id=a.job_id WHERE a.state IN "
+                      "('failed','timeout','abandoned') AND a.error_text IS NOT NULL" +
+                      job_filter + " ORDER BY a.finished_at DESC LIMIT 10");
+  header = false;
+  while (e.step()) {
+    if (!header)
+      out << "\nlast errors:\n", header = true;
+    std::string text = e.text(4);
+    std::string first = text.substr(0, text.find('\n'));
+    out << "  " << e.text(0).substr(0, 12) << " attempt " << e.integer(1) << " " << e.text(2)
+        << " (" << format_duration(now - e.real(3)) << " ago): " << first << "\n";
+  }
+  return 0;
+}
+
+int cmd_cases(std::ostream& out) {
+  for (const auto& c : case_registry()) {
+    out << c.name << ": " << c.description << "\n";
+    if (!c.schemes.empty())
+      out << "  schemes: " << quoted_list(c.schemes) << "\n";
+    for (const auto& p : c.params) {
+      std::string constraint = constraint_text(p);
+      char buf[128];
+      std::snprintf(buf, sizeof buf, "  %-14s %-6s default %-16s", p.name.c_str(),
+                    type_name(p.type).c_str(), format_value(p.default_value).c_str());
+      out << buf;
+      if (!constraint.empty())
+        out << " " << constraint << ";";
+      out << " " << p.doc;
+      if (!p.identity)
+        out << " (not part of the job key)";
+      out << "\n";
+    }
+  }
+  return 0;
+}
+
+int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::ostream& out) {
+  static const std::map<std::string, std::string> aggs = {
+      {"mean", "avg"}, {"min", "min"}, {"max", "max"}, {"count", "count"}};
+  auto agg = aggs.find(t.agg);
+  if (agg == aggs.end())
+    throw std::runtime_error("--agg must be mean, min, max or count");
+  Store store = Store::open_read(db_path);
+  Db& db = store.db();
+  std::int64_t sid = study_id(db, t.study);
+  auto expr = [&](const std::string& p) {
+    return p == "scheme" ? std::string("j.scheme")
+                         : "json_extract(j.params_json, '" + json_path(p) + "')";
+  };
+  Stmt q = db.prepare("SELECT " + expr(t.rows) + ", " + expr(t.cols) + ", " + agg->second +
+                      "(m.value) FROM jobs j JOIN metrics m ON m.job_id=j.id WHERE m.name=? AND "
+                      "j.id IN (SELECT job_id FROM study_jobs WHERE study_id=?) "
+                      "GROUP BY 1, 2 ORDER BY 1, 2");
+  q.bind(1, t.metric).bind(2, sid);
+  // Keep numeric order for numeric parameter values.
+  struct Key {
+    bool numeric;
+    double x;
+    std::string s;
+    bool operator<(const Key& o) const {
+      if (numeric != o.numeric)
+        return numeric;
+      return numeric ? x < o.x : s < o.s;
+    }
+  };
+  auto key = [&](int i) {
+    Key k{q.type(i) == SQLITE_INTEGER || q.type(i) == SQLITE_FLOAT, q.real(i), cell(q, i)};
+    return k;
+  };
+  std::map<Key, std::map<Key, std::string>> cells;
+  std::set<Key> cols;
+  while (q.step()) {
+    Key r = key(0), c = key(1);
+    cols.insert(c);
+    char buf[32];
+    if (q.is_null(2))
+      buf[0] = 0;
+    else
+      std::snprintf(buf, sizeof buf, "%.6g", q.real(2));
+    cells[r][c] = buf;
+  }
+  if (cells.empty()) {
+    Stmt m = db.prepare("SELECT DISTINCT m.name FROM metrics m JOIN study_jobs sj ON "
+                        "sj.job_id=m.job_id WHERE sj.study_id=? ORDER BY 1");
+    m.bind(1, sid);
+    std::vector<std::string> names;
+    while (m.step())
+      names.push_back(m.text(0));
+    throw std::runtime_error("no values of metric '" + t.metric + "' in study '" + t.study + "'" +
+                             did_you_mean(t.metric, names) +
+                             (names.empty() ? "" : "; metrics: " + quoted_list(names)));
+  }
+  std::vector<std::vector<std::string>> grid;
+  std::vector<std::string> head{t.rows + " \\ " + t.cols};
+  for (const auto& c : cols)
+    head.push_back(c.s);
+  grid.push_back(head);
+  for (const auto& [r, row] : cells) {
+    std::vector<std::string> line{r.s};
+    for (const auto& c : cols) {
+      auto it = row.find(c);
+      line.push_back(it == row.end() ? "" : it->second);
+    }
+    grid.push_back(line);
+  }
+  if (t.format == "csv") {
+    for (const auto& line : grid) {
+      for (std::size_t i = 0; i < line.size(); ++i)
+        out << (i ? "," : "") << csv_field(line[i]);
+      out << "\n";
+    }
+    return 0;
+  }
+  std::vector<std::size_t> width(head.size(), 0);
+  for (const auto& line : grid)
+    for (std::size_t i = 0; i < line.size(); ++i)
+      width[i] = std::max(width[i], line[i].size());
+  out << t.agg << "(" << t.metric << ") for study " << t.study << "\n";
+  for (const auto& line : grid) {
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      std::string pad(width[i] - line[i].size(), ' ');
+      out << (i ? "  " : "") << (i ? pad + line[i] : line[i] + pad);
+    }
+    out << "\n";
+  }
+  return 0;
+}
+
+int cmd_export(const std::filesystem::path& db_path, const std::string& study,
+               const std::string& format, std::ostream& out) {
+  if (format != "csv" && format != "json")
+    throw std::runtime_error("--format must be csv or json");
+  Store store = Store::open_read(db_path);
+  Db& db = store.db();
+  std::int64_t sid = study_id(db, study);
+  struct Row {
+    std::string key, state, scheme;
+    nlohmann::json params;
+    std::map<std::string, std::optional<double>> metrics;
+  };
+  std::vector<Row> rows;
+  std::map<std::int64_t, std::size_t> index;
+  Stmt q = db.prepare("SELECT j.id, j.key, j.state, j.scheme, j.params_json FROM jobs j JOIN "
+                      "(SELECT job_id, min(ordinal) AS o FROM study_jobs WHERE study_id=? GROUP "
+                      "BY job_id) sj ON sj.job_id=j.id ORDER BY sj.o");
+  q.bind(1, sid);
+  while (q.step()) {
+    index[q.integer(0)] = rows.size();
+    rows.push_back({q.text(1), q.text(2), q.text(3), nlohmann::json::parse(q.text(4)), {}});
+  }
+  std::vector<std::string> metric_names;
+  Stmt m = db.prepare("SELECT m.job_id, m.name, m.value FROM metrics m WHERE m.job_id IN "
+                      "(SELECT job_id FROM study_jobs WHERE study_id=?) ORDER BY m.job_id, "
+                      "m.ordinal");
+  m.bind(1, sid);
+  while (m.step()) {
+    auto it = index.find(m.integer(0));
+    if (it == index.end())
+      continue;
+    std::string name = m.text(1);
+    if (std::find(metric_names.begin(), metric_names.end(), name) == metric_names.end())
+      metric_names.push_back(name);
+    rows[it->second].metrics[name] = m.opt_real(2);
+  }
+  if (format == "json") {
+    nlohmann::json arr = nlohmann::json::array();
+    for (const auto& r : rows) {
+      nlohmann::json metrics = nlohmann::json::object();
+      for (const auto& [k, v] : r.metrics)
+        metrics[k] = v ? nlohmann::json(*v) : nlohmann::json();
+      arr.push_back({{"job", r.key},
+                     {"status", r.state},
+                     {"scheme", r.scheme},
+                     {"params", r.params},
+                     {"metrics", metrics}});
+    }
+    out << arr.dump(1) << "\n";
+    return 0;
+  }
+  std::vector<std::string> param_names;
+  for (const auto& r : rows)
+    for (const auto& [k, v] : r.params.items())
+      if (std::find(param_names.begin(), param_names.end(), k) == param_names.end())
+        param_names.push_back(k);
+  out << "job,status,scheme";
+  for (const auto& p : param_names)
+    out << "," << csv_field(p);
+  for (const auto& n : metric_names)
+    out << "," << csv_field(n);
+  out << "\n";
+  for (const auto& r : rows) {
+    out << r.key << "," << r.state << "," << csv_field(r.scheme);
+    for (const auto& p : param_names) {
+      out << ",";
+      if (!r.params.contains(p))
+        continue;
+      const auto& v = r.params[p];
+      if (v.is_string())
+        out << csv_field(v.get<std::string>());
+      else if (v.is_number_float())
+        out << format_real(v.get<double>());
+      else
+        out << v.dump();
+    }
+    for (const auto& n : metric_names) {
+      out << ",";
+      auto it = r.metrics.find(n);
+      if (it != r.metrics.end() && it->second)
+        out << format_real(*it->second);
+    }
+    out << "\n";
+  }
+  return 0;
+}
+
+} // namespace sph::runner

@@ -1,0 +1,37 @@
+// The read-only commands: query (SQL to CSV), status, cases, table (pivot) and export.
+// Each returns a process exit code and writes to the given streams.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace sph::runner {
+
+// Runs one SQL statement on a read-only connection and prints CSV with a header row.
+int cmd_query(const std::filesystem::path& db, const std::string& sql, std::ostream& out);
+
+// Counts by state per study (and tier), running jobs with heartbeat age, the last errors.
+int cmd_status(const std::filesystem::path& db, const std::string& study, std::ostream& out);
+
+// The registered cases with their parameters.
+int cmd_cases(std::ostream& out);
+
+struct TableOptions {
+  std::string study;
+  std::string rows, cols; // parameter names (or "scheme")
+  std::string metric;
+  std::string agg = "mean";    // mean, min, max, count
+  std::string format = "text"; // text or csv
+};
+int cmd_table(const std::filesystem::path& db, const TableOptions& t, std::ostream& out);
+
+// One row (csv) or object (json) per job of a study: key, state, scheme, parameters, metrics.
+int cmd_export(const std::filesystem::path& db, const std::string& study, const std::string& format,
+               std::ostream& out);
+
+// RFC 4180 field quoting.
+std::string csv_field(const std::string& s);
+
+} // namespace sph::runner

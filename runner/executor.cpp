@@ -1,0 +1,509 @@
+// The local executor: a main thread that owns the database connection (claims, finishes,
+// heartbeats) and a pool of worker threads that each supervise one job process at a time.
+#include "executor.hpp"
+
+#include "expand.hpp"
+#include "job_file.hpp"
+#include "params.hpp"
+#include "process.hpp"
+#include "progress.hpp"
+#include "provenance.hpp"
+#include "store.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <condition_variable>
+#include <csignal>
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <unistd.h>
+
+namespace sph::runner {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<int> g_stop{0};
+std::atomic<int> g_signal{0};
+
+extern "C" void on_stop_signal(int sig) {
+  g_signal.store(sig);
+  g_stop.fetch_add(1);
+}
+
+// Installs SIGINT/SIGTERM handlers for the lifetime of a run.
+class SignalGuard {
+public:
+  SignalGuard() {
+    g_stop = 0;
+    g_signal = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~SignalGuard() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+
+private:
+  struct sigaction old_int_ {
+  }, old_term_{};
+};
+
+struct Task {
+  std::size_t index = 0; // in the expansion
+  std::int64_t job_id = 0;
+  int attempt = 0;
+  fs::path spec, result, log, progress, output_dir;
+};
+
+struct Outcome {
+  Task task;
+  ChildOutcome child;
+};
+
+// Work queue to the workers and result queue back to the main thread.
+class Channel {
+public:
+  void push_task(Task t) {
+    {
+      std::lock_guard lk(m_);
+      tasks_.push_back(std::move(t));
+    }
+    task_cv_.notify_one();
+  }
+  std::optional<Task> pop_task() {
+    std::unique_lock lk(m_);
+    task_cv_.wait(lk, [&] { return closed_ || !tasks_.empty(); });
+    if (tasks_.empty())
+      return std::nullopt;
+    Task t = std::move(tasks_.front());
+    tasks_.pop_front();
+    return t;
+  }
+  void close() {
+    {
+      std::lock_guard lk(m_);
+      closed_ = true;
+    }
+    task_cv_.notify_all();
+  }
+  void push_outcome(Outcome o) {
+    {
+      std::lock_guard lk(m_);
+      outcomes_.push_back(std::move(o));
+    }
+    outcome_cv_.notify_one();
+  }
+  std::vector<Outcome> wait_outcomes(std::chrono::milliseconds timeout) {
+    std::unique_lock lk(m_);
+    outcome_cv_.wait_for(lk, timeout, [&] { return !outcomes_.empty(); });
+    std::vector<Outcome> v(std::make_move_iterator(outcomes_.begin()),
+                           std::make_move_iterator(outcomes_.end()));
+    outcomes_.clear();
+    return v;
+  }
+
+private:
+  std::mutex m_;
+  std::condition_variable task_cv_, outcome_cv_;
+  std::deque<Task> tasks_;
+  std::deque<Outcome> outcomes_;
+  bool closed_ = false;
+};
+
+std::string label_of(const JobSpec& job, const std::vector<std::string>& varying) {
+  std::string s = job.key.substr(0, 12);
+  for (const auto& name : varying)
+    if (auto it = job.params.find(name); it != job.params.end())
+      s += " " + name + "=" + format_value_plain(it->second);
+  return s;
+}
+
+std::string short_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", x);
+  return buf;
+}
+
+// Removes scratch directories of runners on this host that are no longer alive.
+void clean_dead_scratch(const fs::path& base, const std::string& host) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(base, ec)) {
+    std::string n = e.path().filename().string();
+    auto dash = n.rfind('-');
+    if (dash == std::string::npos || n.substr(0, dash) != host)
+      continue;
+    int pid = std::atoi(n.c_str() + dash + 1);
+    if (pid > 0 && pid != getpid() && !pid_alive(pid))
+      fs::remove_all(e.path(), ec);
+  }
+}
+
+std::optional<double> read_progress(const fs::path& p) {
+  std::ifstream in(p);
+  double x;
+  if (in >> x && std::isfinite(x))
+    return x;
+  return std::nullopt;
+}
+
+bool is_empty_dir(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(p, ec) && fs::is_empty(p, ec);
+}
+
+// Turns a worker outcome into the record stored for the attempt.
+Finish to_finish(const Outcome& o, const RunOptions& opts, std::string& first_metric) {
+  Finish f;
+  f.finished_at = unix_now();
+  const ChildOutcome& c = o.child;
+  if (c.pid > 0) {
+    f.wall_s = c.wall_s;
+    f.cpu_s = c.cpu_s;
+    f.peak_rss_kb = c.peak_rss_kb;
+    f.child_pid = c.pid;
+    if (c.exited)
+      f.exit_code = c.exit_code;
+    else if (c.term_signal)
+      f.signal = c.term_signal;
+  }
+  std::string tail = file_tail(o.task.log, 4000);
+  auto with_tail = [&](std::string s) {
+    if (!tail.empty())
+      s += "\n--- job output (tail) ---\n" + tail;
+    return s;
+  };
+  std::optional<JobFileResult> r;
+  std::string bad_result;
+  try {
+    r = read_result_file(o.task.result);
+  } catch (const std::exception& e) {
+    bad_result = e.what();
+  }
+  if (r && (r->status == "done" || r->status == "diverged")) {
+    f.metrics = r->metrics;
+    f.message = r->message;
+    f.state = r->status;
+    if (f.state == "done")
+      for (const auto& [name, value] : f.metrics)
+        if (!std::isfinite(value)) {
+          f.state = "diverged";
+          f.message = "metric '" + name + "' is " + (std::isnan(value) ? "NaN" : "infinite") +
+                      (f.message.empty() ? "" : "; " + f.message);
+          break;
+        }
+    if (!f.metrics.empty())
+      first_metric = f.metrics.front().first + "=" + short_number(f.metrics.front().second);
+    return f;
+  }
+  if (c.timed_out) {
+    f.state = "timeout";
+    f.error_text = with_tail("exceeded the wall-clock limit of " + short_number(*opts.timeout_s) +
+                             " s (--timeout)");
+  } else if (r && r->status == "failed") {
+    f.state = "failed";
+    f.message = r->message;
+    f.error_text = with_tail("exception: " + r->message);
+  } else if (r) { // cancelled without being asked
+    f.state = "failed";
+    f.message = r->message;
+    f.error_text = with_tail("the case returned Cancelled without a cancellation request");
+  } else if (!c.spawn_error.empty()) {
+    f.state = "failed";
+    f.error_text = c.spawn_error;
+  } else if (!c.exited) {
+    f.state = "failed";
+    f.error_text = with_tail("job process killed by " + signal_description(c.term_signal));
+  } else {
+    f.state = "failed";
+    f.error_text = with_tail(
+        "job process exited with code " + std::to_string(c.exit_code) +
+        (bad_result.empty() ? " without writing a result" : "; unreadable result: " + bad_result));
+  }
+  return f;
+}
+
+} // namespace
+
+int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err) {
+  Expansion ex = expand(study, opts.tier);
+  const std::string tier = ex.tier;
+  const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
+
+  if (opts.dry_run) {
+    std::map<std::string, std::string> states;
+    if (fs::exists(opts.db_path)) {
+      Store ro = Store::open_read(opts.db_path);
+      std::vector<std::string> keys;
+      for (const auto& j : ex.jobs)
+        keys.push_back(j.key);
+      states = ro.states_of(keys);
+    }
+    out << title << ": " << ex.jobs.size() << " jobs (" << ex.combinations << " combinations, "
+        << ex.excluded << " excluded, " << ex.duplicates << " duplicates collapsed)\n";
+    if (!ex.jobs.empty()) {
+      std::string fixed;
+      const auto& first = ex.jobs.front();
+      for (const auto& [k, v] : first.params)
+        if (std::find(ex.varying.begin(), ex.varying.end(), k) == ex.varying.end())
+          fixed += " " + k + "=" + format_value_plain(v);
+      out << "fixed:" << fixed << "\n";
+    }
+    for (const auto& j : ex.jobs) {
+      auto it = states.find(j.key);
+      char st[16];
+      std::snprintf(st, sizeof st, "%-8s", it == states.end() ? "new" : it->second.c_str());
+      out << st << " " << label_of(j, ex.varying) << "\n";
+    }
+    return 0;
+  }
+
+  const std::string host = host_name();
+  const int pid = static_cast<int>(getpid());
+  Store store = Store::open_write(opts.db_path, opts.allow_network_fs);
+  auto stale = store.reset_stale(host, pid, unix_now(), opts.stale_after_s, pid_alive);
+  if (!stale.empty()) {
+    out << "recovered " << stale.size() << " job(s) left running by a dead runner:";
+    for (std::size_t i = 0; i < stale.size() && i < 5; ++i)
+      out << "\n  " << stale[i].key.substr(0, 12) << " " << stale[i].reason;
+    out << "\n";
+    Stmt q = store.db().prepare("PRAGMA quick_check");
+    if (q.step() && q.text(0) != "ok")
+      err << "warning: database integrity check after an unclean shutdown: " << q.text(0) << "\n";
+  }
+
+  StudyRecord rec{study.name, study.case_name, study.description,
+                  fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
+  SyncReport sync =
+      store.sync_study(rec, tier, ex.jobs, opts.retry_failed, opts.max_attempts, unix_now());
+
+  std::map<std::string, std::size_t> counts;
+  std::vector<const JobRow*> todo;
+  for (const auto& row : sync.jobs) {
+    ++counts[row.state];
+    if (row.state == "pending")
+      todo.push_back(&row);
+  }
+  auto count = [&](const char* s) { return counts.count(s) ? counts[s] : std::size_t(0); };
+  std::size_t failing = count("failed") + count("timeout") + count("diverged");
+  out << title << ": " << ex.jobs.size() << " jobs: " << count("done") << " done already, ";
+  if (failing && !opts.retry_failed)
+    out << failing << " failed/diverged/timed out (not retried; use --retry-failed), ";
+  if (count("running"))
+    out << count("running") << " running elsewhere, ";
+  out << todo.size() << " to run";
+  if (sync.inserted)
+    out << " (" << sync.inserted << " new)";
+  out << "\n";
+  if (sync.requeued)
+    out << "retrying " << sync.requeued << " failed job(s)\n";
+  if (sync.exhausted)
+    out << sync.exhausted << " failed job(s) reached --max-attempts " << opts.max_attempts
+        << " and stay failed\n";
+  if (sync.removed)
+    out << "note: " << sync.removed << " job(s) of an earlier version of this study are no "
+        << "longer in it (their results stay in the database)\n";
+  if (sync.definition_changed && !sync.study_is_new)
+    out << "note: the study file changed since the last run\n";
+
+  std::size_t n_workers = opts.jobs > 0 ? static_cast<std::size_t>(opts.jobs)
+                                        : std::max(1u, std::thread::hardware_concurrency());
+  n_workers = std::min(n_workers, std::max<std::size_t>(todo.size(), 1));
+
+  const fs::path db_dir =
+      opts.db_path.parent_path().empty() ? fs::path(".") : opts.db_path.parent_path();
+  const fs::path scratch_base = db_dir / ".runner";
+  const fs::path scratch = scratch_base / (host + "-" + std::to_string(pid));
+  std::size_t ran = 0, interrupted = 0, lost = 0;
+  std::vector<std::string> failures;
+  auto t_start = std::chrono::steady_clock::now();
+
+  if (!todo.empty()) {
+    clean_dead_scratch(scratch_base, host);
+    fs::create_directories(scratch);
+    SignalGuard guard;
+    Channel ch;
+    std::vector<std::thread> workers;
+    for (std::size_t w = 0; w < n_workers; ++w)
+      workers.emplace_back([&] {
+        while (auto t = ch.pop_task()) {
+          ChildRequest req;
+          req.exe = opts.self_exe;
+          req.args = {"job",   "--spec",           t->spec.string(),
+                      "--out", t->result.string(), "--die-with-parent"};
+          req.env = {{"OMP_NUM_THREADS", std::to_string(opts.threads_per_job)}};
+          req.log_path = t->log;
+          ChildOutcome c = run_child(req, opts.timeout_s, g_stop, opts.kill_grace_s);
+          ch.push_outcome({std::move(*t), std::move(c)});
+        }
+      });
+
+    bool live = opts.live_progress.value_or(isatty(STDOUT_FILENO) != 0);
+    Progress progress(out, live, todo.size());
+    AttemptStart start{host, pid, opts.threads_per_job, code_version(), compiler_id(), 0};
+    std::map<std::int64_t, Task> running;
+    std::size_t next = 0;
+    auto last_heartbeat = std::chrono::steady_clock::now();
+
+    for (;;) {
+      while (g_stop.load() == 0 && running.size() < n_workers && next < todo.size()) {
+        const JobRow& row = *todo[next++];
+        start.started_at = unix_now();
+        auto attempt = store.claim(row.id, start);
+        if (!attempt)
+          continue; // another runner took it
+        const JobSpec& job = ex.jobs[row.ordinal];
+        Task t;
+        t.index = row.ordinal;
+        t.job_id = row.id;
+        t.attempt = *attempt;
+        std::string stem = job.key + "." + std::to_string(*attempt);
+        t.spec = scratch / (stem + ".spec.json");
+        t.result = scratch / (stem + ".result.json");
+        t.log = scratch / (stem + ".log");
+        t.progress = scratch / (stem + ".progress");
+        t.output_dir = db_dir / study.name / job.key;
+        JobFileSpec spec{
+            job.key,  job.case_name,         job.scheme,         job.params, opts.threads_per_job,
+            *attempt, t.output_dir.string(), t.progress.string()};
+        try {
+          fs::create_directories(t.output_dir);
+          write_file_atomic(t.spec, spec_to_json(spec));
+        } catch (const std::exception& e) {
+          Finish f;
+          f.state = "failed";
+          f.finished_at = unix_now();
+          f.error_text = std::string("cannot prepare the job: ") + e.what();
+          store.finish(row.id, *attempt, host, pid, f);
+          progress.finished("failed", label_of(job, ex.varying), f.error_text);
+          failures.push_back(label_of(job, ex.varying) + ": " + f.error_text);
+          continue;
+        }
+        running.emplace(row.id, t);
+        ch.push_task(std::move(t));
+      }
+      progress.set_running(running.size());
+      if (running.empty() && (next >= todo.size() || g_stop.load() > 0))
+        break;
+
+      for (Outcome& o : ch.wait_outcomes(std::chrono::milliseconds(100))) {
+        running.erase(o.task.job_id);
+        const JobSpec& job = ex.jobs[o.task.index];
+        std::string label = label_of(job, ex.varying);
+        std::error_code ec;
+        bool cancelled_result = false;
+        if (g_stop.load() > 0 && o.child.stopped) {
+          try {
+            auto r = read_result_file(o.task.result);
+            cancelled_result = !r || r->status == "cancelled" || r->status == "failed";
+          } catch (...) {
+            cancelled_result = true;
+          }
+        }
+        if (cancelled_result) {
+          store.release(o.task.job_id, o.task.attempt, host, pid,
+                        "interrupted: the runner received " + signal_description(g_signal.load()),
+                        unix_now());
+          ++interrupted;
+        } else {
+          std::string first_metric;
+          Finish f = to_finish(o, opts, first_metric);
+          bool kept_output = !is_empty_dir(o.task.output_dir);
+          if (kept_output)
+            f.output_dir = o.task.output_dir.string();
+          else
+            fs::remove(o.task.output_dir, ec);
+          if (f.state != "done" && f.state != "diverged") {
+            // Keep the full output of a failed attempt next to its outputs.
+            fs::create_directories(o.task.output_dir, ec);
+            fs::path kept =
+                o.task.output_dir / ("attempt-" + std::to_string(o.task.attempt) + ".log");
+            fs::rename(o.task.log, kept, ec);
+            if (!ec)
+              f.error_text += "\n(full output: " + kept.string() + ")";
+          }
+          if (!store.finish(o.task.job_id, o.task.attempt, host, pid, f)) {
+            ++lost;
+            err << "warning: job " << job.key.substr(0, 12)
+                << " was taken over by another runner; its result was discarded\n";
+          }
+          ++ran;
+          std::string detail = short_number(o.child.wall_s) + " s";
+          if (!first_metric.empty())
+            detail += "  " + first_metric;
+          if (f.state == "diverged" && !f.message.empty())
+            detail += "  " + f.message;
+          if (f.state != "done" && f.state != "diverged") {
+            std::string first_line = f.error_text.substr(0, f.error_text.find('\n'));
+            detail += "  " + first_line;
+            failures.push_back(label + ": " + first_line);
+          }
+          progress.finished(f.state, label, detail);
+        }
+        fs::remove(o.task.spec, ec);
+        fs::remove(o.task.result, ec);
+        fs::remove(o.task.log, ec);
+        fs::remove(o.task.progress, ec);
+      }
+      progress.set_running(running.size());
+      progress.tick();
+
+      auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - last_heartbeat).count() >= opts.heartbeat_s) {
+        last_heartbeat = now;
+        std::vector<std::pair<std::int64_t, std::optional<double>>> hb;
+        for (const auto& [id, t] : running)
+          hb.emplace_back(id, read_progress(t.progress));
+        store.heartbeat(hb, host, pid, unix_now());
+      }
+    }
+    ch.close();
+    for (auto& w : workers)
+      w.join();
+    progress.close();
+    std::error_code ec;
+    fs::remove_all(scratch, ec);
+    fs::remove(scratch_base, ec);        // only when empty (other runners may be using it)
+    fs::remove(db_dir / study.name, ec); // only when no job kept outputs or logs
+  }
+
+  // Summary from the store: the state of every job of the study (tier).
+  auto final_counts = store.state_counts(sync.study_id, tier);
+  double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  out << title << ": " << ex.jobs.size() << " jobs:";
+  bool first = true;
+  for (const char* s : {"done", "diverged", "failed", "timeout", "running", "pending"})
+    if (final_counts.count(s)) {
+      out << (first ? " " : ", ") << final_counts[s] << " " << s;
+      first = false;
+    }
+  if (ran)
+    out << " (ran " << ran << " in " << format_duration(elapsed) << ")";
+  out << "\n";
+  for (std::size_t i = 0; i < failures.size() && i < 10; ++i)
+    out << "  failed: " << failures[i] << "\n";
+  if (failures.size() > 10)
+    out << "  ... " << failures.size() - 10 << " more (runner status " << study.name << ")\n";
+  if (interrupted || g_stop.load() > 0) {
+    int sig = g_signal.load();
+    out << "interrupted by " << signal_description(sig) << ": " << interrupted
+        << " running job(s) put back to pending; run again to resume\n";
+    return 128 + (sig ? sig : SIGINT);
+  }
+  if (lost)
+    return 1;
+  bool any_failed = final_counts.count("failed") || final_counts.count("timeout");
+  return any_failed ? 1 : 0;
+}
+
+} // namespace sph::runner

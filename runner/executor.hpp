@@ -1,0 +1,37 @@
+// Runs a study: expands it, registers its jobs in the store, recovers jobs abandoned by dead
+// runners, then runs the pending ones on a pool of workers, each job in a child process
+// (`runner job`), and records every outcome in one transaction per job.
+#pragma once
+
+#include "study.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+
+namespace sph::runner {
+
+struct RunOptions {
+  std::filesystem::path db_path = "results/results.sqlite";
+  std::string tier;        // "" for the whole study
+  int jobs = 0;            // parallel jobs; 0: number of cores
+  int threads_per_job = 1; // OMP_NUM_THREADS and RunContext::threads of each job
+  std::optional<double> timeout_s;
+  bool retry_failed = false;
+  int max_attempts = 3; // failing attempts after which --retry-failed leaves a job alone
+  bool dry_run = false;
+  bool allow_network_fs = false;
+  std::optional<bool> live_progress;       // default: stdout is a terminal
+  std::string self_exe = "/proc/self/exe"; // the binary that has the `job` subcommand
+  double heartbeat_s = 5;
+  double stale_after_s = 30; // a running job whose heartbeat is older is abandoned
+  double kill_grace_s = 5;   // SIGTERM -> SIGKILL delay
+};
+
+// Returns the process exit code: 0 when no job of the study (tier) is failed or timed out,
+// 1 otherwise, 128+signal when interrupted. Study errors are thrown as StudyError before anything
+// is written.
+int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err);
+
+} // namespace sph::runner

@@ -1,0 +1,390 @@
+// Study expansion: tier merge, product of axes and zip groups, exclusions, explicit cases, derived
+// parameters in dependency order, per-job validation, keys and duplicate collapse.
+#include "expand.hpp"
+
+#include "diagnostics.hpp"
+#include "job_key.hpp"
+#include "params.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <set>
+#include <unordered_set>
+
+namespace sph::runner {
+
+namespace {
+
+// The study definition after applying a tier.
+struct Definition {
+  std::vector<Assignment> params;
+  std::vector<Axis> sweep;
+  std::vector<ZipGroup> zip;
+  std::vector<ExplicitCase> cases;
+  std::vector<Exclude> exclude;
+};
+
+template <class V>
+auto find_named(V& v, const std::string& name) {
+  return std::find_if(v.begin(), v.end(), [&](const auto& x) { return x.name == name; });
+}
+
+bool in_zip(const std::vector<ZipGroup>& zip, const std::string& name, int* line) {
+  for (const auto& g : zip)
+    for (const auto& a : g.axes)
+      if (a.name == name) {
+        *line = a.line;
+        return true;
+      }
+  return false;
+}
+
+Definition apply_tier(const Study& s, const Tier* t, Diagnostics& diag) {
+  Definition d{s.params, s.sweep, s.zip, s.cases, s.exclude};
+  if (!t)
+    return d;
+  const std::string where = "[tiers." + t->name + "]";
+  if (t->zip)
+    d.zip = *t->zip;
+  if (t->cases)
+    d.cases = *t->cases;
+  if (t->exclude)
+    d.exclude = *t->exclude;
+  int zline = 0;
+  // A tier's fixed value pins a parameter the base sweeps; a tier's axis sweeps one it fixes.
+  for (const auto& a : t->params) {
+    if (!t->zip && in_zip(d.zip, a.name, &zline)) {
+      diag.error(a.line, where + " params " + a.name + ": '" + a.name +
+                             "' is in a [[zip]] group (line " + std::to_string(zline) +
+                             "); override the zip groups in the tier instead");
+      continue;
+    }
+    if (auto it = find_named(d.sweep, a.name); it != d.sweep.end())
+      d.sweep.erase(it);
+    if (auto it = find_named(d.params, a.name); it != d.params.end())
+      *it = a;
+    else
+      d.params.push_back(a);
+  }
+  for (const auto& ax : t->sweep) {
+    if (!t->zip && in_zip(d.zip, ax.name, &zline)) {
+      diag.error(ax.line, where + " sweep " + ax.name + ": '" + ax.name +
+                              "' is in a [[zip]] group (line " + std::to_string(zline) +
+                              "); override the zip groups in the tier instead");
+      continue;
+    }
+    if (auto it = find_named(d.params, ax.name); it != d.params.end())
+      d.params.erase(it);
+    if (auto it = find_named(d.sweep, ax.name); it != d.sweep.end())
+      *it = ax;
+    else
+      d.sweep.push_back(ax);
+  }
+  // Zip groups given by the tier must not collide with the merged params and axes.
+  if (t->zip)
+    for (const auto& g : d.zip)
+      for (const auto& a : g.axes) {
+        if (auto it = find_named(d.params, a.name); it != d.params.end())
+          diag.error(a.line, where + " zip " + a.name + ": '" + a.name +
+                                 "' is also a fixed parameter (line " + std::to_string(it->line) +
+                                 ")");
+        if (auto it = find_named(d.sweep, a.name); it != d.sweep.end())
+          diag.error(a.line, where + " zip " + a.name + ": '" + a.name +
+                                 "' is also a sweep axis (line " + std::to_string(it->line) + ")");
+      }
+  return d;
+}
+
+// Derived parameters in an order where each comes after those it uses.
+std::vector<const Derived*> derived_order(const Study& s, Diagnostics& diag) {
+  std::vector<const Derived*> order;
+  std::map<std::string, int> state; // 0 unvisited, 1 visiting, 2 done
+  std::map<std::string, const Derived*> by_name;
+  for (const auto& d : s.derived)
+    by_name[d.name] = &d;
+  std::function<bool(const Derived*)> visit = [&](const Derived* d) {
+    int& st = state[d->name];
+    if (st == 2)
+      return true;
+    if (st == 1) {
+      diag.error(d->line, "[derived] " + d->name + ": circular definition (\"" + d->expr.text() +
+                              "\" depends on itself)");
+      return false;
+    }
+    st = 1;
+    for (const auto& ref : d->expr.names())
+      if (auto it = by_name.find(ref); it != by_name.end())
+        if (!visit(it->second))
+          return false;
+    st = 2;
+    order.push_back(d);
+    return true;
+  };
+  for (const auto& d : s.derived)
+    if (!visit(&d))
+      break;
+  return order;
+}
+
+std::optional<double> numeric(const Params& p, const std::string& name) {
+  auto it = p.find(name);
+  if (it == p.end())
+    return std::nullopt;
+  if (auto d = std::get_if<double>(&it->second))
+    return *d;
+  if (auto i = std::get_if<std::int64_t>(&it->second))
+    return static_cast<double>(*i);
+  return std::nullopt;
+}
+
+class Expander {
+public:
+  Expander(const Study& s, Diagnostics& diag) : s_(s), diag_(diag) {}
+
+  // Computes derived values and checks them; false (after reporting) when the job is invalid.
+  bool resolve(Params& p, const std::vector<const Derived*>& derived,
+               const std::vector<ParamSpec>& specs, const std::string& scheme) {
+    for (const Derived* d : derived) {
+      const ParamSpec* spec = find_spec(specs, d->name);
+      if (!spec) {
+        report(d->line, "[derived] " + d->name + ": '" + d->name + "' is a parameter of scheme '" +
+                            scheme_owning(*s_.info, d->name) + "', not of scheme '" + scheme +
+                            "' that some jobs use");
+        return false;
+      }
+      double x = 0;
+      try {
+        x = d->expr.eval([&](const std::string& n) { return numeric(p, n); });
+      } catch (const ExprError& e) {
+        report(d->line,
+               "[derived] " + d->name + ": " + e.what() + " in \"" + d->expr.text() + "\"");
+        return false;
+      }
+      ParamValue v = x;
+      if (!std::isfinite(x)) {
+        report(d->line, "[derived] " + d->name + " = \"" + d->expr.text() + "\" evaluates to " +
+                            format_real(x) + " for " + describe(p, d->expr.names()));
+        return false;
+      }
+      if (spec->type == ParamType::Int) {
+        double r = std::round(x);
+        if (std::abs(x - r) > 1e-9 * std::max(1.0, std::abs(x))) {
+          report(d->line, "[derived] " + d->name + " = \"" + d->expr.text() + "\" gives " +
+                              format_real(x) + " for " + describe(p, d->expr.names()) + ", but '" +
+                              d->name +
+                              "' is an integer; wrap the expression in round(), floor() or ceil()");
+          return false;
+        }
+        v = static_cast<std::int64_t>(r);
+      }
+      if (auto err = check_value(*spec, v)) {
+        report(d->line, "[derived] " + d->name + " = \"" + d->expr.text() + "\": " + *err +
+                            " for " + describe(p, d->expr.names()));
+        return false;
+      }
+      p[d->name] = v;
+    }
+    return true;
+  }
+
+  void report(int line, const std::string& msg) {
+    if (reported_.insert(msg).second)
+      diag_.error(line, msg);
+  }
+
+private:
+  const Study& s_;
+  Diagnostics& diag_;
+  std::set<std::string> reported_;
+
+  static std::string describe(const Params& p, const std::vector<std::string>& names) {
+    std::string s;
+    for (const auto& n : names) {
+      auto it = p.find(n);
+      if (it == p.end())
+        continue;
+      s += (s.empty() ? "" : ", ") + n + " = " + format_value(it->second);
+    }
+    return s.empty() ? "this job" : s;
+  }
+};
+
+bool matches(const Params& p, const Exclude& e) {
+  for (const auto& a : e.match) {
+    auto it = p.find(a.name);
+    if (it == p.end() || !(it->second == a.value))
+      return false;
+  }
+  return true;
+}
+
+} // namespace
+
+JobSpec make_job(const Study& study, Params params) {
+  JobSpec job;
+  job.case_name = study.case_name;
+  if (auto it = params.find(scheme_param); it != params.end())
+    job.scheme = std::get<std::string>(it->second);
+  auto ident = identity_params_json(job_specs(*study.info, job.scheme), params);
+  job.params_json = ident.dump();
+  job.canonical = canonical_job_json(job.case_name, job.scheme, ident, numerics_version);
+  job.key = job_key(job.canonical);
+  job.params = std::move(params);
+  return job;
+}
+
+Expansion expand(const Study& study, const std::string& tier_name) {
+  Diagnostics diag(study.file);
+  Expansion out;
+  const Tier* tier = nullptr;
+  if (!tier_name.empty() && tier_name != full_tier) {
+    tier = study.find_tier(tier_name);
+    if (!tier) {
+      auto names = study.tier_names();
+      diag.error(0, "no tier named '" + tier_name + "'" + did_you_mean(tier_name, names) +
+                        (names.empty() ? "; the study defines no tiers"
+                                       : "; defined tiers: " + quoted_list(names)));
+      diag.throw_if_any();
+    }
+  }
+  out.tier = tier ? tier->name : full_tier;
+  Definition def = apply_tier(study, tier, diag);
+  auto derived = derived_order(study, diag);
+  diag.throw_if_any();
+
+  // Explicit values shared by every job, and the line where each parameter is set.
+  Params fixed;
+  for (const auto& a : def.params)
+    fixed[a.name] = a.value;
+  std::map<std::string, int> set_at;
+  for (const auto& a : def.params)
+    set_at.emplace(a.name, a.line);
+  for (const auto& a : def.sweep)
+    set_at.emplace(a.name, a.line);
+  for (const auto& g : def.zip)
+    for (const auto& a : g.axes)
+      set_at.emplace(a.name, a.line);
+  for (const auto& c : def.cases)
+    for (const auto& a : c.overrides)
+      set_at.emplace(a.name, a.line);
+
+  // Dimensions of the product: each a list of points, each point a list of assignments.
+  using Point = std::vector<std::pair<const std::string*, const ParamValue*>>;
+  std::vector<std::vector<Point>> dims;
+  for (const auto& ax : def.sweep) {
+    std::vector<Point> pts;
+    for (const auto& v : ax.values)
+      pts.push_back({{&ax.name, &v}});
+    dims.push_back(std::move(pts));
+  }
+  for (const auto& g : def.zip) {
+    std::vector<Point> pts(g.length());
+    for (std::size_t i = 0; i < g.length(); ++i)
+      for (const auto& a : g.axes)
+        pts[i].push_back({&a.name, &a.values[i]});
+    dims.push_back(std::move(pts));
+  }
+
+  Expander ex(study, diag);
+  std::map<std::string, std::vector<ParamSpec>> specs_by_scheme;
+  const CaseInfo& info = *study.info;
+  // A job's full parameter set from its explicit values: its scheme's specs, defaults, derived.
+  auto build = [&](const Params& given, int origin_line) -> std::optional<Params> {
+    std::string scheme;
+    if (!info.schemes.empty()) {
+      auto it = given.find(scheme_param);
+      scheme = it == given.end() ? info.schemes.front() : std::get<std::string>(it->second);
+    }
+    auto [sit, fresh] = specs_by_scheme.try_emplace(scheme);
+    if (fresh)
+      sit->second = job_specs(info, scheme);
+    const auto& specs = sit->second;
+    for (const auto& [k, v] : given)
+      if (!find_spec(specs, k)) {
+        auto at = set_at.find(k);
+        ex.report(at == set_at.end() ? origin_line : at->second,
+                  "'" + k + "' is a parameter of scheme '" + scheme_owning(info, k) +
+                      "', not of scheme '" + scheme +
+                      "' that some jobs use; set it per scheme with [[zip]] or [[cases]]");
+        return std::nullopt;
+      }
+    Params p;
+    for (const auto& sp : specs)
+      p[sp.name] = sp.default_value;
+    for (const auto& [k, v] : given)
+      p[k] = v;
+    if (!ex.resolve(p, derived, specs, scheme))
+      return std::nullopt;
+    return p;
+  };
+
+  std::unordered_set<std::string> keys;
+  auto add = [&](Params p) {
+    JobSpec job = make_job(study, std::move(p));
+    if (!keys.insert(job.key).second) {
+      ++out.duplicates;
+      return;
+    }
+    out.jobs.push_back(std::move(job));
+  };
+
+  // With no axes the product is the single base job, unless explicit cases replace it.
+  std::size_t total = dims.empty() && !def.cases.empty() ? 0 : 1;
+  for (const auto& d : dims)
+    total *= d.size();
+  out.combinations = total;
+  std::vector<std::size_t> idx(dims.size(), 0);
+  for (std::size_t n = 0; n < total && diag.size() < 25; ++n) {
+    Params given = fixed;
+    for (std::size_t k = 0; k < dims.size(); ++k)
+      for (const auto& [name, value] : dims[k][idx[k]])
+        given[*name] = *value;
+    // Advance the odometer: the last dimension varies fastest.
+    for (std::size_t k = dims.size(); k-- > 0;) {
+      if (++idx[k] < dims[k].size())
+        break;
+      idx[k] = 0;
+    }
+    auto p = build(given, 0);
+    if (!p)
+      continue;
+    bool drop = false;
+    for (const auto& e : def.exclude)
+      drop = drop || matches(*p, e);
+    if (drop) {
+      ++out.excluded;
+      continue;
+    }
+    add(std::move(*p));
+  }
+  for (const auto& c : def.cases) {
+    Params given = fixed;
+    for (const auto& a : c.overrides)
+      given[a.name] = a.value;
+    if (auto p = build(given, c.line))
+      add(std::move(*p));
+  }
+  diag.throw_if_any();
+
+  // Parameters that differ between jobs (or exist only for some), in spec order.
+  if (!out.jobs.empty()) {
+    const auto& first = out.jobs.front().params;
+    for (const auto& sp : study.specs) {
+      auto f = first.find(sp.name);
+      for (const auto& j : out.jobs) {
+        auto it = j.params.find(sp.name);
+        bool same = (it == j.params.end()) == (f == first.end()) &&
+                    (it == j.params.end() || it->second == f->second);
+        if (!same) {
+          out.varying.push_back(sp.name);
+          break;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+} // namespace sph::runner

@@ -1,0 +1,54 @@
+// The job-spec and result files: how a head process hands one job to a worker process and gets
+// its outcome back, without the worker touching the database. The same format serves the local
+// pool (runner job --spec --out) and, later, Slurm array tasks. Files are written to NAME.tmp and
+// renamed, so a reader sees either no file or a complete one. Format in docs/runner.md.
+#pragma once
+
+#include "cases/case.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sph::runner {
+
+inline constexpr const char* job_spec_format = "sph-job-spec/1";
+inline constexpr const char* job_result_format = "sph-job-result/1";
+
+struct JobFileSpec {
+  std::string key;
+  std::string case_name;
+  std::string scheme;
+  Params params; // every parameter of the case, typed
+  int threads = 1;
+  int attempt = 1;
+  std::string output_dir;    // "" for none
+  std::string progress_file; // "" for none: the worker writes its progress fraction there
+};
+
+// Outcome reported by the worker. status: done, diverged, cancelled or failed (run() threw).
+struct JobFileResult {
+  std::string key;
+  std::string status;
+  std::vector<std::pair<std::string, double>> metrics; // non-finite values survive the round trip
+  std::string message;
+};
+
+// Writes `text` to path.tmp, flushes it to disk and renames it to path. Throws on error.
+void write_file_atomic(const std::filesystem::path& path, const std::string& text);
+
+std::string spec_to_json(const JobFileSpec& spec);
+// Parses a spec; the case must be registered (parameters are typed by its specs).
+JobFileSpec spec_from_json(const std::string& text);
+
+std::string result_to_json(const JobFileResult& result);
+JobFileResult result_from_json(const std::string& text);
+
+JobFileSpec read_spec_file(const std::filesystem::path& path);
+void write_result_file(const std::filesystem::path& path, const JobFileResult& result);
+// nullopt when the file does not exist; throws when it exists but is malformed.
+std::optional<JobFileResult> read_result_file(const std::filesystem::path& path);
+
+} // namespace sph::runner

@@ -1,0 +1,45 @@
+// Child processes for jobs: spawn (posix_spawn, own process group, stdout+stderr to a log file),
+// supervise (wall-clock limit, stop requests: SIGTERM to the group, then SIGKILL after a grace
+// period) and reap with wait4() for the child's own CPU time and peak RSS.
+#pragma once
+
+#include <atomic>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sph::runner {
+
+struct ChildRequest {
+  std::string exe;
+  std::vector<std::string> args;                        // argv[1..]
+  std::vector<std::pair<std::string, std::string>> env; // set or override in the child
+  std::filesystem::path log_path;                       // receives stdout and stderr
+};
+
+struct ChildOutcome {
+  std::string spawn_error; // non-empty: the child never started
+  int pid = 0;
+  bool exited = false; // normal exit (exit_code valid); otherwise killed by term_signal
+  int exit_code = 0;
+  int term_signal = 0;
+  bool timed_out = false; // killed for exceeding the wall-clock limit
+  bool stopped = false;   // killed because the runner was asked to stop
+  double wall_s = 0;
+  double cpu_s = 0; // user + system of the child (all its threads, reaped descendants)
+  long peak_rss_kb = 0;
+};
+
+// stop: 0 run on, 1 stop gracefully (SIGTERM, then SIGKILL after kill_grace_s), 2 kill now.
+ChildOutcome run_child(const ChildRequest& req, std::optional<double> timeout_s,
+                       const std::atomic<int>& stop, double kill_grace_s);
+
+bool pid_alive(int pid);
+// Last max_bytes of a file (from a line start when possible); "" when missing.
+std::string file_tail(const std::filesystem::path& path, std::size_t max_bytes);
+// "SIGSEGV (Segmentation fault)"
+std::string signal_description(int sig);
+
+} // namespace sph::runner

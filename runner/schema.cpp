@@ -1,0 +1,108 @@
+// The SQL schema of the job store. Documented in docs/runner.md; the view job_metrics is a stable
+// interface that users' scripts rely on (its column names never change).
+#include "schema.hpp"
+
+namespace sph::runner {
+
+namespace {
+
+// Version 1: studies, jobs, study membership, attempts, metrics, the job_metrics view.
+const char* schema_v1 = R"SQL(
+CREATE TABLE studies (
+  id                INTEGER PRIMARY KEY,
+  name              TEXT NOT NULL UNIQUE,
+  case_name         TEXT NOT NULL,
+  description       TEXT NOT NULL DEFAULT '',
+  file              TEXT NOT NULL,
+  definition_sha256 TEXT NOT NULL,
+  created_at        REAL NOT NULL,
+  updated_at        REAL NOT NULL
+);
+
+CREATE TABLE jobs (
+  id               INTEGER PRIMARY KEY,
+  key              TEXT NOT NULL UNIQUE,
+  case_name        TEXT NOT NULL,
+  scheme           TEXT NOT NULL DEFAULT '',
+  numerics_version INTEGER NOT NULL,
+  params_json      TEXT NOT NULL,
+  state            TEXT NOT NULL DEFAULT 'pending'
+                   CHECK (state IN ('pending','submitted','running','done','failed','diverged','timeout')),
+  attempts         INTEGER NOT NULL DEFAULT 0,
+  created_at       REAL NOT NULL,
+  updated_at       REAL NOT NULL,
+  owner_host       TEXT,
+  owner_pid        INTEGER,
+  heartbeat_at     REAL,
+  slurm_job_id     TEXT,
+  progress         REAL,
+  output_dir       TEXT
+);
+CREATE INDEX jobs_state ON jobs(state);
+
+CREATE TABLE study_jobs (
+  study_id INTEGER NOT NULL REFERENCES studies(id) ON DELETE CASCADE,
+  job_id   INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  tier     TEXT NOT NULL,
+  ordinal  INTEGER NOT NULL,
+  PRIMARY KEY (study_id, job_id, tier)
+) WITHOUT ROWID;
+CREATE INDEX study_jobs_job ON study_jobs(job_id);
+CREATE INDEX study_jobs_order ON study_jobs(study_id, tier, ordinal);
+
+CREATE TABLE attempts (
+  id           INTEGER PRIMARY KEY,
+  job_id       INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  attempt      INTEGER NOT NULL,
+  state        TEXT NOT NULL
+               CHECK (state IN ('running','done','failed','diverged','timeout','interrupted','abandoned')),
+  started_at   REAL NOT NULL,
+  finished_at  REAL,
+  wall_s       REAL,
+  cpu_s        REAL,
+  peak_rss_kb  INTEGER,
+  host         TEXT NOT NULL,
+  pid          INTEGER NOT NULL,
+  child_pid    INTEGER,
+  threads      INTEGER NOT NULL,
+  code_version TEXT NOT NULL,
+  compiler     TEXT NOT NULL,
+  exit_code    INTEGER,
+  signal       INTEGER,
+  message      TEXT,
+  error_text   TEXT,
+  UNIQUE (job_id, attempt)
+);
+CREATE INDEX attempts_finished ON attempts(finished_at);
+
+CREATE TABLE metrics (
+  job_id  INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  name    TEXT NOT NULL,
+  value   REAL,
+  attempt INTEGER NOT NULL,
+  ordinal INTEGER NOT NULL,
+  PRIMARY KEY (job_id, name)
+) WITHOUT ROWID;
+CREATE INDEX metrics_name ON metrics(name);
+
+CREATE VIEW job_metrics AS
+  SELECT s.name        AS study,
+         j.key         AS job,
+         j.state       AS status,
+         j.params_json AS params,
+         m.name        AS metric,
+         m.value       AS value
+  FROM studies s
+  JOIN (SELECT DISTINCT study_id, job_id FROM study_jobs) sj ON sj.study_id = s.id
+  JOIN jobs j ON j.id = sj.job_id
+  JOIN metrics m ON m.job_id = j.id;
+)SQL";
+
+} // namespace
+
+const std::vector<const char*>& migrations() {
+  static const std::vector<const char*> m{schema_v1};
+  return m;
+}
+
+} // namespace sph::runner

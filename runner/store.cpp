@@ -1,0 +1,362 @@
+// The SQLite job store: opening and migrating, study/job registration, claims, finishes,
+// heartbeats and stale-job recovery.
+#include "store.hpp"
+
+#include "schema.hpp"
+
+#include <chrono>
+#include <sys/vfs.h>
+#include <unordered_set>
+
+namespace sph::runner {
+
+namespace fs = std::filesystem;
+
+double unix_now() {
+  using namespace std::chrono;
+  return duration<double>(system_clock::now().time_since_epoch()).count();
+}
+
+bool is_network_filesystem(const fs::path& dir, std::string* fs_name) {
+  struct statfs st {};
+  if (statfs(dir.c_str(), &st) != 0)
+    return false;
+  struct Known {
+    unsigned long magic;
+    const char* name;
+  };
+  static const Known known[] = {
+      {0x6969, "NFS"},        {0x517B, "SMB"},       {0xFF534D42, "CIFS"},   {0xFE534D42, "SMB2"},
+      {0x0BD00BD0, "Lustre"}, {0x47504653, "GPFS"},  {0x19830326, "BeeGFS"}, {0x00C36400, "Ceph"},
+      {0x65735546, "FUSE"},   {0x013111A8, "IBRIX"}, {0x5346414F, "AFS"},
+  };
+  for (const auto& k : known)
+    if (static_cast<unsigned long>(st.f_type) == k.magic) {
+      if (fs_name)
+        *fs_name = k.name;
+      return true;
+    }
+  return false;
+}
+
+namespace {
+
+void configure(Db& db) {
+  sqlite3_busy_timeout(db.handle(), 15000);
+  db.exec("PRAGMA foreign_keys=ON");
+}
+
+int user_version(Db& db) {
+  return static_cast<int>(db.scalar_int("PRAGMA user_version"));
+}
+
+void check_version(Db& db, const fs::path& path) {
+  int v = user_version(db);
+  if (v > Store::schema_version)
+    throw std::runtime_error("database '" + path.string() + "' has schema version " +
+                             std::to_string(v) + ", newer than this runner supports (" +
+                             std::to_string(Store::schema_version) + "); use a newer runner build");
+}
+
+} // namespace
+
+Store Store::open_write(const fs::path& path, bool allow_network_fs) {
+  fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw std::runtime_error("cannot create directory '" + dir.string() + "': " + ec.message());
+  std::string fs_name;
+  bool network = is_network_filesystem(dir, &fs_name);
+  if (network && !allow_network_fs)
+    throw std::runtime_error(
+        "database '" + path.string() + "' is on a network file system (" + fs_name +
+        "); SQLite locking and WAL are not safe there. Put the database on a local disk (--db), "
+        "or pass --allow-network-fs to use it anyway with a rollback journal and a single runner");
+  Db db(path.string(), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  configure(db);
+  check_version(db, path);
+  if (network)
+    db.exec("PRAGMA journal_mode=DELETE");
+  else {
+    Stmt s = db.prepare("PRAGMA journal_mode=WAL");
+    if (!s.step() || s.text(0) != "wal")
+      throw std::runtime_error("cannot switch database '" + path.string() + "' to WAL mode");
+  }
+  db.exec("PRAGMA synchronous=NORMAL");
+  Store store(std::move(db), path);
+  store.migrate();
+  return store;
+}
+
+Store Store::open_read(const fs::path& path) {
+  if (!fs::exists(path))
+    throw std::runtime_error("no database at '" + path.string() +
+                             "' (run a study first, or pass --db)");
+  Db db(path.string(), SQLITE_OPEN_READONLY);
+  configure(db);
+  db.exec("PRAGMA query_only=ON");
+  check_version(db, path);
+  if (user_version(db) == 0)
+    throw std::runtime_error("'" + path.string() + "' is not a runner database (no schema)");
+  return Store(std::move(db), path);
+}
+
+void Store::migrate() {
+  if (user_version(db_) == schema_version)
+    return;
+  WriteTx tx(db_);
+  int v = user_version(db_); // re-read under the write lock: another runner may have migrated
+  if (v == 0 && db_.scalar_int("SELECT count(*) FROM sqlite_master WHERE type='table'") > 0)
+    throw std::runtime_error("'" + path_.string() +
+                             "' is an SQLite database but not a runner database; refusing to "
+                             "modify it");
+  const auto& m = migrations();
+  for (; v < schema_version; ++v)
+    db_.exec(m[static_cast<std::size_t>(v)]);
+  db_.exec("PRAGMA user_version=" + std::to_string(schema_version));
+  tx.commit();
+}
+
+SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
+                             const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
+                             double now) {
+  SyncReport r;
+  WriteTx tx(db_);
+  {
+    Stmt q = db_.prepare("SELECT id, definition_sha256 FROM studies WHERE name=?");
+    q.bind(1, study.name);
+    if (q.step()) {
+      r.study_id = q.integer(0);
+      r.definition_changed = q.text(1) != study.definition_sha256;
+      Stmt u = db_.prepare("UPDATE studies SET case_name=?, description=?, file=?, "
+                           "definition_sha256=?, updated_at=? WHERE id=?");
+      u.bind(1, study.case_name).bind(2, study.description).bind(3, study.file);
+      u.bind(4, study.definition_sha256).bind(5, now).bind(6, r.study_id).run();
+    } else {
+      Stmt i = db_.prepare("INSERT INTO studies(name, case_name, description, file, "
+                           "definition_sha256, created_at, updated_at) VALUES(?,?,?,?,?,?,?)");
+      i.bind(1, study.name).bind(2, study.case_name).bind(3, study.description);
+      i.bind(4, study.file).bind(5, study.definition_sha256).bind(6, now).bind(7, now).run();
+      r.study_id = sqlite3_last_insert_rowid(db_.handle());
+      r.study_is_new = true;
+    }
+  }
+  std::unordered_set<std::int64_t> before;
+  {
+    Stmt q = db_.prepare("SELECT job_id FROM study_jobs WHERE study_id=? AND tier=?");
+    q.bind(1, r.study_id).bind(2, tier);
+    while (q.step())
+      before.insert(q.integer(0));
+    Stmt d = db_.prepare("DELETE FROM study_jobs WHERE study_id=? AND tier=?");
+    d.bind(1, r.study_id).bind(2, tier).run();
+  }
+  Stmt ins = db_.prepare(
+      "INSERT INTO jobs(key, case_name, scheme, numerics_version, params_json, state, attempts, "
+      "created_at, updated_at) VALUES(?,?,?,?,?,'pending',0,?,?) ON CONFLICT(key) DO NOTHING");
+  Stmt find = db_.prepare("SELECT id FROM jobs WHERE key=?");
+  Stmt member =
+      db_.prepare("INSERT INTO study_jobs(study_id, job_id, tier, ordinal) VALUES(?,?,?,?)");
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const JobSpec& j = jobs[i];
+    ins.bind(1, j.key).bind(2, j.case_name).bind(3, j.scheme).bind(4, numerics_version);
+    ins.bind(5, j.params_json).bind(6, now).bind(7, now).run();
+    std::int64_t id;
+    if (db_.changes() == 1) {
+      id = sqlite3_last_insert_rowid(db_.handle());
+      ++r.inserted;
+    } else {
+      find.bind(1, j.key);
+      find.step();
+      id = find.integer(0);
+      find.reset();
+    }
+    if (before.count(id))
+      ++kept;
+    member.bind(1, r.study_id).bind(2, id).bind(3, tier).bind(4, static_cast<std::int64_t>(i));
+    member.run();
+  }
+  r.removed = before.size() - kept;
+
+  const char* failing = "('failed','diverged','timeout')";
+  std::string failed_attempts = std::string("(SELECT count(*) FROM attempts a WHERE a.job_id = "
+                                            "jobs.id AND a.state IN ") +
+                                failing + ")";
+  std::string in_study = "id IN (SELECT job_id FROM study_jobs WHERE study_id=?1 AND tier=?2)";
+  if (retry_failed) {
+    Stmt u = db_.prepare("UPDATE jobs SET state='pending', updated_at=?3 WHERE state IN " +
+                         std::string(failing) + " AND " + in_study + " AND " + failed_attempts +
+                         " < ?4");
+    u.bind(1, r.study_id).bind(2, tier).bind(3, now).bind(4, max_attempts).run();
+    r.requeued = static_cast<std::size_t>(db_.changes());
+    Stmt c = db_.prepare("SELECT count(*) FROM jobs WHERE state IN " + std::string(failing) +
+                         " AND " + in_study);
+    c.bind(1, r.study_id).bind(2, tier);
+    c.step();
+    r.exhausted = static_cast<std::size_t>(c.integer(0));
+  }
+  {
+    Stmt q = db_.prepare("SELECT j.id, sj.ordinal, j.state, j.attempts FROM study_jobs sj JOIN "
+                         "jobs j ON j.id = sj.job_id WHERE sj.study_id=? AND sj.tier=? ORDER BY "
+                         "sj.ordinal");
+    q.bind(1, r.study_id).bind(2, tier);
+    while (q.step())
+      r.jobs.push_back({q.integer(0), static_cast<std::size_t>(q.integer(1)), q.text(2),
+                        static_cast<int>(q.integer(3))});
+  }
+  tx.commit();
+  return r;
+}
+
+std::vector<StaleJob> Store::reset_stale(const std::string& host, int self_pid, double now,
+                                         double stale_after_s,
+                                         const std::function<bool(int)>& pid_alive) {
+  std::vector<StaleJob> out;
+  WriteTx tx(db_);
+  struct Row {
+    std::int64_t id;
+    std::string key, reason;
+  };
+  std::vector<Row> stale;
+  {
+    Stmt q = db_.prepare("SELECT id, key, owner_host, owner_pid, heartbeat_at FROM jobs WHERE "
+                         "state='running'");
+    while (q.step()) {
+      std::string owner = q.text(2);
+      int pid = static_cast<int>(q.integer(3));
+      std::string who = "host " + owner + ", pid " + std::to_string(pid);
+      if (owner == host && (pid == self_pid || !pid_alive(pid))) {
+        stale.push_back({q.integer(0), q.text(1), "abandoned: owner process gone (" + who + ")"});
+      } else if (q.is_null(4) || now - q.real(4) > stale_after_s) {
+        double age = q.is_null(4) ? -1 : now - q.real(4);
+        stale.push_back({q.integer(0), q.text(1),
+                         "abandoned: owner heartbeat stale" +
+                             (age >= 0 ? " for " + std::to_string(static_cast<long>(age)) + " s"
+                                       : std::string()) +
+                             " (" + who + ")"});
+      }
+    }
+  }
+  Stmt uj = db_.prepare("UPDATE jobs SET state='pending', owner_host=NULL, owner_pid=NULL, "
+                        "heartbeat_at=NULL, updated_at=? WHERE id=? AND state='running'");
+  Stmt ua = db_.prepare("UPDATE attempts SET state='abandoned', finished_at=?, error_text=? "
+                        "WHERE job_id=? AND state='running'");
+  for (const auto& s : stale) {
+    uj.bind(1, now).bind(2, s.id).run();
+    ua.bind(1, now).bind(2, s.reason).bind(3, s.id).run();
+    out.push_back({s.key, s.reason});
+  }
+  tx.commit();
+  return out;
+}
+
+std::optional<int> Store::claim(std::int64_t job_id, const AttemptStart& a) {
+  WriteTx tx(db_);
+  Stmt u = db_.prepare("UPDATE jobs SET state='running', owner_host=?, owner_pid=?, "
+                       "attempts=attempts+1, heartbeat_at=?, updated_at=?, progress=NULL "
+                       "WHERE id=? AND state='pending' RETURNING attempts");
+  u.bind(1, a.host).bind(2, a.pid).bind(3, a.started_at).bind(4, a.started_at).bind(5, job_id);
+  if (!u.step())
+    return std::nullopt;
+  int attempt = static_cast<int>(u.integer(0));
+  u.reset();
+  Stmt i = db_.prepare("INSERT INTO attempts(job_id, attempt, state, started_at, host, pid, "
+                       "threads, code_version, compiler) VALUES(?,?,'running',?,?,?,?,?,?)");
+  i.bind(1, job_id).bind(2, attempt).bind(3, a.started_at).bind(4, a.host).bind(5, a.pid);
+  i.bind(6, a.threads).bind(7, a.code_version).bind(8, a.compiler).run();
+  tx.commit();
+  return attempt;
+}
+
+bool Store::finish(std::int64_t job_id, int attempt, const std::string& host, int pid,
+                   const Finish& f) {
+  WriteTx tx(db_);
+  Stmt u = db_.prepare(
+      "UPDATE jobs SET state=?1, owner_host=NULL, owner_pid=NULL, heartbeat_at=NULL, "
+      "updated_at=?2, progress=CASE WHEN ?1='done' THEN 1.0 ELSE progress END, "
+      "output_dir=COALESCE(?3, output_dir) "
+      "WHERE id=?4 AND state='running' AND owner_host=?5 AND owner_pid=?6 AND attempts=?7");
+  u.bind(1, f.state).bind(2, f.finished_at).bind(3, f.output_dir).bind(4, job_id);
+  u.bind(5, host).bind(6, pid).bind(7, attempt).run();
+  if (db_.changes() != 1)
+    return false; // no longer ours: the transaction rolls back
+  Stmt a = db_.prepare("UPDATE attempts SET state=?, finished_at=?, wall_s=?, cpu_s=?, "
+                       "peak_rss_kb=?, child_pid=?, exit_code=?, signal=?, message=?, "
+                       "error_text=? WHERE job_id=? AND attempt=?");
+  a.bind(1, f.state).bind(2, f.finished_at).bind(3, f.wall_s).bind(4, f.cpu_s);
+  a.bind(5, f.peak_rss_kb).bind(6, f.child_pid).bind(7, f.exit_code).bind(8, f.signal);
+  if (f.message.empty())
+    a.bind_null(9);
+  else
+    a.bind(9, f.message);
+  if (f.error_text.empty())
+    a.bind_null(10);
+  else
+    a.bind(10, f.error_text);
+  a.bind(11, job_id).bind(12, attempt).run();
+  Stmt d = db_.prepare("DELETE FROM metrics WHERE job_id=?");
+  d.bind(1, job_id).run();
+  Stmt m = db_.prepare("INSERT OR REPLACE INTO metrics(job_id, name, value, attempt, ordinal) "
+                       "VALUES(?,?,?,?,?)");
+  for (std::size_t k = 0; k < f.metrics.size(); ++k) {
+    // SQLite stores NaN as NULL; infinities are kept.
+    m.bind(1, job_id).bind(2, f.metrics[k].first).bind(3, f.metrics[k].second);
+    m.bind(4, attempt).bind(5, static_cast<std::int64_t>(k)).run();
+  }
+  tx.commit();
+  return true;
+}
+
+void Store::release(std::int64_t job_id, int attempt, const std::string& host, int pid,
+                    const std::string& reason, double now) {
+  WriteTx tx(db_);
+  Stmt u = db_.prepare("UPDATE jobs SET state='pending', owner_host=NULL, owner_pid=NULL, "
+                       "heartbeat_at=NULL, updated_at=? WHERE id=? AND state='running' AND "
+                       "owner_host=? AND owner_pid=? AND attempts=?");
+  u.bind(1, now).bind(2, job_id).bind(3, host).bind(4, pid).bind(5, attempt).run();
+  if (db_.changes() != 1)
+    return;
+  Stmt a = db_.prepare("UPDATE attempts SET state='interrupted', finished_at=?, error_text=? "
+                       "WHERE job_id=? AND attempt=?");
+  a.bind(1, now).bind(2, reason).bind(3, job_id).bind(4, attempt).run();
+  tx.commit();
+}
+
+void Store::heartbeat(const std::vector<std::pair<std::int64_t, std::optional<double>>>& jobs,
+                      const std::string& host, int pid, double now) {
+  if (jobs.empty())
+    return;
+  WriteTx tx(db_);
+  Stmt u = db_.prepare("UPDATE jobs SET heartbeat_at=?, progress=COALESCE(?, progress) "
+                       "WHERE id=? AND state='running' AND owner_host=? AND owner_pid=?");
+  for (const auto& [id, progress] : jobs) {
+    u.bind(1, now).bind(2, progress).bind(3, id).bind(4, host).bind(5, pid).run();
+  }
+  tx.commit();
+}
+
+std::map<std::string, std::size_t> Store::state_counts(std::int64_t study_id,
+                                                       const std::string& tier) {
+  std::map<std::string, std::size_t> out;
+  Stmt q = db_.prepare("SELECT j.state, count(*) FROM study_jobs sj JOIN jobs j ON j.id = "
+                       "sj.job_id WHERE sj.study_id=? AND sj.tier=? GROUP BY j.state");
+  q.bind(1, study_id).bind(2, tier);
+  while (q.step())
+    out[q.text(0)] = static_cast<std::size_t>(q.integer(1));
+  return out;
+}
+
+std::map<std::string, std::string> Store::states_of(const std::vector<std::string>& keys) {
+  std::map<std::string, std::string> out;
+  Stmt q = db_.prepare("SELECT state FROM jobs WHERE key=?");
+  for (const auto& k : keys) {
+    q.bind(1, k);
+    if (q.step())
+      out[k] = q.text(0);
+    q.reset();
+  }
+  return out;
+}
+
+} // namespace sph::runner

@@ -1,0 +1,132 @@
+// The job store: one SQLite database (WAL) holding studies, jobs, attempts and metrics.
+// All writes go through short BEGIN IMMEDIATE transactions; a job is `done` only together with its
+// metrics, in one transaction. The schema is versioned by PRAGMA user_version (docs/runner.md).
+#pragma once
+
+#include "expand.hpp"
+#include "sqlite.hpp"
+
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sph::runner {
+
+// Seconds since the Unix epoch (the store's time unit).
+double unix_now();
+
+struct StudyRecord {
+  std::string name;
+  std::string case_name;
+  std::string description;
+  std::string file;
+  std::string definition_sha256;
+};
+
+struct JobRow {
+  std::int64_t id = 0;
+  std::size_t ordinal = 0; // index in the expansion
+  std::string state;
+  int attempts = 0;
+};
+
+struct SyncReport {
+  std::int64_t study_id = 0;
+  bool study_is_new = false;
+  bool definition_changed = false;
+  std::size_t inserted = 0;  // jobs new to the database
+  std::size_t removed = 0;   // were in this study and tier, no longer in its expansion
+  std::size_t requeued = 0;  // failed/diverged/timeout jobs put back to pending (--retry-failed)
+  std::size_t exhausted = 0; // failed jobs left alone because they reached max_attempts
+  std::vector<JobRow> jobs;  // in expansion order
+};
+
+struct AttemptStart {
+  std::string host;
+  int pid = 0; // the runner's pid (owner of the job)
+  int threads = 1;
+  std::string code_version;
+  std::string compiler;
+  double started_at = 0;
+};
+
+struct Finish {
+  std::string state; // done, failed, diverged or timeout
+  double finished_at = 0;
+  std::optional<double> wall_s, cpu_s;
+  std::optional<std::int64_t> peak_rss_kb, child_pid, exit_code, signal;
+  std::string message;    // from the case
+  std::string error_text; // why it failed (with the job's stderr tail)
+  std::vector<std::pair<std::string, double>> metrics;
+  std::optional<std::string> output_dir;
+};
+
+struct StaleJob {
+  std::string key;
+  std::string reason;
+};
+
+class Store {
+public:
+  static constexpr int schema_version = 1;
+
+  // Creates the file (and its directory) if needed, migrates the schema, sets WAL.
+  // Refuses a database on a network file system unless allow_network_fs (then no WAL).
+  static Store open_write(const std::filesystem::path& path, bool allow_network_fs = false);
+  // Read-only connection to an existing database.
+  static Store open_read(const std::filesystem::path& path);
+
+  Db& db() { return db_; }
+  const std::filesystem::path& path() const { return path_; }
+
+  // Registers the study and its jobs for `tier` (one transaction): inserts new jobs as pending,
+  // records membership and order, drops membership of jobs no longer in the expansion, and with
+  // retry_failed puts failed/diverged/timeout jobs with fewer than max_attempts failing attempts
+  // back to pending.
+  SyncReport sync_study(const StudyRecord& study, const std::string& tier,
+                        const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
+                        double now);
+
+  // Puts `running` jobs whose owner is gone back to pending (same host and dead pid, or a
+  // heartbeat older than stale_after_s); their attempt rows become `abandoned`.
+  std::vector<StaleJob> reset_stale(const std::string& host, int self_pid, double now,
+                                    double stale_after_s,
+                                    const std::function<bool(int)>& pid_alive);
+
+  // Atomically takes a pending job: returns the attempt number, or nullopt when the job is no
+  // longer pending (another runner took it).
+  std::optional<int> claim(std::int64_t job_id, const AttemptStart& a);
+
+  // Records a finished attempt: attempt row, metrics and job state in one transaction.
+  // false when the job is no longer ours (reset as stale by another runner): nothing written.
+  bool finish(std::int64_t job_id, int attempt, const std::string& host, int pid, const Finish& f);
+
+  // Gives a job back (runner interrupted): state pending, attempt row `interrupted`.
+  void release(std::int64_t job_id, int attempt, const std::string& host, int pid,
+               const std::string& reason, double now);
+
+  // Refreshes heartbeat_at (and progress when known) of jobs this runner owns.
+  void heartbeat(const std::vector<std::pair<std::int64_t, std::optional<double>>>& jobs,
+                 const std::string& host, int pid, double now);
+
+  // Counts by state of a study's jobs in a tier.
+  std::map<std::string, std::size_t> state_counts(std::int64_t study_id, const std::string& tier);
+
+  // State of each key (absent keys are not in the map); for --dry-run.
+  std::map<std::string, std::string> states_of(const std::vector<std::string>& keys);
+
+private:
+  Store(Db db, std::filesystem::path path) : db_(std::move(db)), path_(std::move(path)) {}
+  void migrate();
+  Db db_;
+  std::filesystem::path path_;
+};
+
+// True when `dir` is on NFS, SMB/CIFS, Lustre, GPFS, BeeGFS, Ceph or FUSE (sshfs...).
+bool is_network_filesystem(const std::filesystem::path& dir, std::string* fs_name = nullptr);
+
+} // namespace sph::runner

@@ -1,0 +1,97 @@
+// A study file (TOML) parsed and validated against the case registry: the study's name and case,
+// fixed parameters, sweep axes, zip groups, explicit cases, derived parameters, exclusions and
+// tiers. Every item keeps the line it came from, so later errors (in expansion) can name it.
+// See docs/runner.md for the file format.
+#pragma once
+
+#include "cases/case.hpp"
+#include "expr.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sph::runner {
+
+struct Assignment {
+  std::string name;
+  ParamValue value;
+  int line = 0;
+};
+
+struct Axis {
+  std::string name;
+  std::vector<ParamValue> values;
+  int line = 0;
+};
+
+// Lists of equal length that vary together.
+struct ZipGroup {
+  std::vector<Axis> axes;
+  int line = 0;
+  std::size_t length() const { return axes.empty() ? 0 : axes.front().values.size(); }
+};
+
+// One explicit extra job: overrides on top of [params].
+struct ExplicitCase {
+  std::vector<Assignment> overrides;
+  int line = 0;
+};
+
+struct Derived {
+  std::string name;
+  Expr expr;
+  int line = 0;
+};
+
+// Drops the jobs of the product whose values match every entry.
+struct Exclude {
+  std::vector<Assignment> match;
+  int line = 0;
+};
+
+// Overrides for a shorter (or longer) run of the same study.
+struct Tier {
+  std::string name;
+  std::string description;
+  int line = 0;
+  std::vector<Assignment> params; // merged over [params]; pins a parameter swept in the base
+  std::vector<Axis> sweep;        // replaces axes of the same name, adds the others
+  std::optional<std::vector<ZipGroup>> zip;       // replaces all [[zip]] groups
+  std::optional<std::vector<ExplicitCase>> cases; // replaces all [[cases]]
+  std::optional<std::vector<Exclude>> exclude;    // replaces [study] exclude
+};
+
+struct Study {
+  std::string file; // as given (used in messages)
+  std::string name;
+  std::string case_name;
+  std::string description;
+  const CaseInfo* info = nullptr;
+  std::vector<ParamSpec> specs; // the case's params (+ "scheme" when the case has schemes)
+  int case_line = 0;
+
+  std::vector<Assignment> params; // [params] and [study] scheme
+  std::vector<Axis> sweep;        // in file order: the first axis varies slowest
+  std::vector<ZipGroup> zip;
+  std::vector<ExplicitCase> cases;
+  std::vector<Derived> derived;
+  std::vector<Exclude> exclude;
+  std::vector<Tier> tiers;
+
+  std::string definition_sha256; // of the file's bytes
+
+  const Tier* find_tier(const std::string& name) const;
+  std::vector<std::string> tier_names() const;
+};
+
+// The tier name under which a study's untiered expansion is recorded.
+inline constexpr const char* full_tier = "full";
+
+// Reads and validates a study file. Throws StudyError (with file:line diagnostics).
+Study load_study(const std::filesystem::path& path);
+// Same, from text; `file` labels the diagnostics.
+Study parse_study(const std::string& text, const std::string& file);
+
+} // namespace sph::runner
