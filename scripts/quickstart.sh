@@ -10,6 +10,5 @@ cd "$ROOT"
 for lattice in uniform disordered; do
   echo
   echo "err (seed 001 eq. 21), ${lattice} lattice, mean over seeds: rows n_side, columns visc"
-  ./build/runner table visc_patch --rows n_side --cols visc --value err \
-    --where "lattice = '${lattice}'"
+  ./build/runner table visc_patch --rows n_side --cols visc --value err --where "lattice=${lattice}"
 done
