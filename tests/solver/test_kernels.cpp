@@ -1,5 +1,5 @@
-// Kernels: unit integral on a fine lattice, zero first moment and unit second moment of the
-// gradient (sum_j V_j (r_j - r_i) (x) grad W = I), compact support, continuity at the piece
+// Kernels: unit integral on a fine lattice, gradient antisymmetry, zero sum and unit first moment
+// of the gradient (sum_j V_j (r_j - r_i) (x) grad W = I), compact support, continuity at the piece
 // boundaries, and derivatives against finite differences; 2D and 3D.
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
@@ -41,6 +41,14 @@ void check_kernel(const std::string& name) {
     EXPECT_NEAR(sum, 1.0, 1e-6);
     EXPECT_LT(gsum.norm(), 1e-10);
     EXPECT_LT((moment - Mat<D>::Identity()).norm(), 1e-5);
+
+    // Antisymmetry of the gradient: grad_i W(r_i - r_j) = -grad_j W(r_j - r_i).
+    Vec<D> rij;
+    for (int a = 0; a < D; ++a) rij[a] = 0.3 + 0.2 * a;
+    const double r = rij.norm();
+    const Vec<D> gi = W.dW(r) / r * rij, gj = W.dW(r) / r * Vec<D>(-rij);
+    EXPECT_LT((gi + gj).norm(), 1e-15 * gi.norm());
+    EXPECT_LT(gi.dot(rij), 0.0); // points from j towards i's decreasing weight
 
     // Compact support and smoothness.
     const double s = W.support();
