@@ -52,6 +52,13 @@ struct RunContext {
   std::filesystem::path output_dir;          // where the job may write HDF5 outputs; empty: none
   std::function<void(double)> progress;      // fraction of simulated time done, 0..1 (may be empty)
   const std::atomic<bool>* cancel = nullptr; // set when the job must stop (timeout, shutdown)
+  // Checkpoints (io/checkpoint.hpp) of a long job: the directory where it saves and finds its
+  // checkpoint (kept by the runner across attempts of the same job; empty: none), and how often
+  // to save (0: never on that criterion). attempt: 1 for the first run, 2... for re-runs.
+  std::filesystem::path checkpoint_dir;
+  std::int64_t checkpoint_every_steps = 0;
+  double checkpoint_every_s = 0;
+  int attempt = 1;
 
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
   void report(double fraction) const {

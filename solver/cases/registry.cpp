@@ -7,11 +7,19 @@ namespace sph {
 
 CaseInfo make_patch_test_case();
 CaseInfo make_shear_layer_case();
+CaseInfo make_lid_driven_cavity_case();
+CaseInfo make_cavity_cylinder_case();
+CaseInfo make_cylinder_channel_case();
+CaseInfo make_checkpoint_demo_case();
 
 const std::vector<CaseInfo>& case_registry() {
   static const std::vector<CaseInfo> cases{
       make_patch_test_case(),
       make_shear_layer_case(),
+      make_lid_driven_cavity_case(),
+      make_cavity_cylinder_case(),
+      make_cylinder_channel_case(),
+      make_checkpoint_demo_case(),
   };
   return cases;
 }

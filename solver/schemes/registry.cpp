@@ -5,10 +5,14 @@
 namespace sph {
 
 SchemeInfo make_contact_scheme();
+SchemeInfo make_isph_scheme();
+SchemeInfo make_alsph_scheme();
 
 const std::vector<SchemeInfo>& scheme_registry() {
   static const std::vector<SchemeInfo> schemes{
       make_contact_scheme(),
+      make_isph_scheme(),
+      make_alsph_scheme(),
   };
   return schemes;
 }

@@ -1,0 +1,240 @@
+// Geometry, parameters and run loop of the cavity cases (see cavity.hpp).
+//
+// Run loop (scheme-independent part): advance until t_end, or until the flow is steady:
+// every steady_window the kinetic energy E_k is compared with its value one window earlier and
+// the run stops when |dE_k| / E_k < steady_tol (recorded: t_stop, steady = 1). Diverged when a
+// velocity is not finite or exceeds 20 U0. At the end the centreline profiles and metrics of
+// diagnostics/cavity_profiles.hpp are computed; with an output directory the HDF5 file
+// <output_dir>/<case>.h5 holds the E_k history, the fine-line profiles and the final fields.
+//
+// Metrics besides the profiles: ke, div_max (max |div u| of the final velocity, eq. 4, fluid
+// particles), t_stop, steady, steps, wall_time_s, time_per_step_s, ppe_assembly_s_per_step,
+// ppe_solve_s_per_step, ppe_share (assembly + solve over the step), ppe_iters_mean,
+// ppe_residual (relative residual of the last solve), wall_clearance_corrections (see isph.hpp),
+// n_particles, n_fluid.
+#include "cases/cavity.hpp"
+
+#include "core/kernels/kernel.hpp"
+#include "core/lattice.hpp"
+#include "diagnostics/cavity_profiles.hpp"
+#include "io/hdf5.hpp"
+#include "schemes/isph/isph.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <omp.h>
+#include <stdexcept>
+
+namespace sph {
+
+int build_cavity(Particles<2>& p, const CavityGeometry& g) {
+  if (p.size() != 0)
+    throw std::invalid_argument("build_cavity: particle set must be empty");
+  const int n = static_cast<int>(std::lround(1.0 / g.dx));
+  if (n < 4 || std::abs(n * g.dx - 1.0) > 1e-9)
+    throw std::invalid_argument("cavity: 1/dx must be an integer >= 4, got dx = " +
+                                std::to_string(g.dx));
+  const int L = g.layers;
+  const double R = 0.5 * g.cylinder_d, m = g.dx * g.dx, rho0 = 1.0;
+  const Vec2 c(0.5, 0.5);
+  std::vector<Vec2> vw;
+  for_each_lattice_point<2>({-L, -L}, {n + L, n + L}, g.dx,
+                            [&](const Vec2& x, const std::array<int, 2>& i) {
+                              const bool inside = i[0] >= 0 && i[0] < n && i[1] >= 0 && i[1] < n;
+                              if (inside) {
+                                const double d = (x - c).norm();
+                                if (R > 0.0 && d < R) {
+                                  if (d > R - L * g.dx)
+                                    p.add(x, m, rho0, Kind::Body), vw.push_back(Vec2::Zero());
+                                  return;
+                                }
+                                p.add(x, m, rho0, Kind::Fluid), vw.push_back(Vec2::Zero());
+                              } else {
+                                p.add(x, m, rho0, Kind::Wall);
+                                vw.push_back(i[1] >= n ? Vec2(g.U0, 0.0) : Vec2::Zero());
+                              }
+                            });
+  const int f = p.add_vector("v_wall");
+  p.vector(f) = vw;
+  return f;
+}
+
+std::vector<ParamSpec> cavity_params(bool cylinder) {
+  std::vector<ParamSpec> s = {
+      {"Re", ParamType::Real, 1000.0, "Reynolds number U0 L / nu (U0 = L = 1)", 0.0, {}, true},
+      {"dx", ParamType::Real, 0.01, "particle spacing (1/dx must be an integer)", 0.0, 0.25, true},
+      {"dt", ParamType::Real, 0.001, "time step", 0.0, {}, true},
+      {"t_end", ParamType::Real, 40.0, "end time unless steady earlier", 0.0, {}, true},
+      {"steady_tol", ParamType::Real, 1e-4,
+       "stop when |E_k(t) - E_k(t - steady_window)| / E_k < steady_tol (0: run to t_end)", 0.0,
+       1.0},
+      {"steady_window", ParamType::Real, 1.0, "time between steady-state checks", 0.0, {}, true},
+      {"output_interval",
+       ParamType::Real,
+       0.1,
+       "time between samples of the E_k history",
+       0.0,
+       {},
+       true,
+       {},
+       false},
+  };
+  if (cylinder)
+    s.push_back(
+        {"cylinder_d", ParamType::Real, 0.5, "cylinder diameter / L (centred)", 0.0, 0.9, true});
+  return s;
+}
+
+namespace {
+
+template <class Kernel>
+RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinder,
+                          const Kernel& kernel, const IsphOptions& opt) {
+  using clock = std::chrono::steady_clock;
+  const auto t_start = clock::now();
+  const double Re = get_real(prm, "Re"), dx = get_real(prm, "dx"), dt = get_real(prm, "dt");
+  const double t_end = get_real(prm, "t_end"), steady_tol = get_real(prm, "steady_tol");
+  const double window = get_real(prm, "steady_window");
+  const double out_dt = get_real(prm, "output_interval");
+  const double U0 = 1.0, nu = U0 * 1.0 / Re;
+
+  CavityGeometry g;
+  g.dx = dx;
+  g.layers = static_cast<int>(std::ceil(kernel.support() / dx - 1e-9));
+  g.cylinder_d = cylinder ? get_real(prm, "cylinder_d") : 0.0;
+  Particles<2> p;
+  const int vw = build_cavity(p, g);
+  std::size_t n_fluid = 0;
+  for (auto k : p.kind)
+    n_fluid += k == Kind::Fluid;
+
+  Domain<2> box;
+  Isph<2, Kernel> solver(p, box, kernel, opt, vw, nu, dt, dx);
+
+  RunResult res;
+  std::vector<double> h_t, h_ke, h_div, h_it;
+  const long n_steps = static_cast<long>(std::ceil(t_end / dt - 1e-9));
+  const long out_every = std::max(1L, std::lround(out_dt / dt));
+  const long steady_every = std::max(1L, std::lround(window / dt));
+  double ke_prev = -1.0, t = 0.0;
+  bool steady = false;
+  long n = 0;
+  for (n = 0; n < n_steps; ++n) {
+    if (ctx.cancelled()) {
+      res.status = RunStatus::Cancelled;
+      res.message = "cancelled at t = " + std::to_string(t);
+      return res;
+    }
+    const bool sample = (n + 1) % out_every == 0 || n + 1 == n_steps;
+    solver.set_measure_divergence(sample);
+    try {
+      solver.step();
+    } catch (const std::runtime_error& e) { // a failed PPE solve: the particle state is broken
+      res.status = RunStatus::Diverged;
+      res.message = std::string(e.what()) + " at t = " + std::to_string(t);
+      res.add("t_stop", t);
+      return res;
+    }
+    t = (n + 1) * dt;
+    if (sample) {
+      double vmax = 0.0;
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (p.kind[i] == Kind::Fluid)
+          vmax = std::max(vmax, std::isfinite(p.v[i].squaredNorm()) ? p.v[i].norm() : 1e300);
+      if (!(vmax < 20.0 * U0)) {
+        res.status = RunStatus::Diverged;
+        res.message = "velocity " + std::to_string(vmax) + " at t = " + std::to_string(t);
+        res.add("t_stop", t);
+        return res;
+      }
+      h_t.push_back(t), h_ke.push_back(kinetic_energy(p)), h_div.push_back(solver.div_max());
+      h_it.push_back(solver.last_iterations());
+      ctx.report(t / t_end);
+    }
+    if ((n + 1) % steady_every == 0) {
+      const double ke = kinetic_energy(p);
+      if (steady_tol > 0.0 && ke_prev > 0.0 && std::abs(ke - ke_prev) < steady_tol * ke) {
+        steady = true;
+        ++n;
+        break;
+      }
+      ke_prev = ke;
+    }
+  }
+  // Final divergence of the last step's velocity (measured on the configuration it was made on).
+  double div_max = solver.div_max();
+  if (!(h_t.size() && h_t.back() == t)) {
+    h_t.push_back(t), h_ke.push_back(kinetic_energy(p)), h_div.push_back(div_max);
+    h_it.push_back(solver.last_iterations());
+  }
+
+  solver.update_wall_velocity();
+  const double R = 0.5 * g.cylinder_d;
+  auto use = [&](std::size_t) { return true; };
+  auto in_solid = [&](const Vec2& x) { return R > 0.0 && (x - Vec2(0.5, 0.5)).norm() < R; };
+  const bool ghia = !cylinder && std::abs(Re - 1000.0) < 1e-9;
+  CavityProfiles prof = cavity_profile_metrics(p, kernel, use, in_solid, ghia, res);
+
+  const double wall = std::chrono::duration<double>(clock::now() - t_start).count();
+  const double steps = static_cast<double>(solver.steps());
+  res.add("ke", kinetic_energy(p));
+  res.add("div_max", div_max);
+  res.add("t_stop", t);
+  res.add("steady", steady ? 1.0 : 0.0);
+  res.add("steps", steps);
+  res.add("wall_time_s", wall);
+  res.add("time_per_step_s", solver.time_step() / steps);
+  res.add("ppe_assembly_s_per_step", solver.time_assemble() / steps);
+  res.add("ppe_solve_s_per_step", solver.time_solve() / steps);
+  res.add("ppe_share", (solver.time_assemble() + solver.time_solve()) / solver.time_step());
+  res.add("ppe_iters_mean", static_cast<double>(solver.iterations_total()) / steps);
+  res.add("ppe_residual", solver.ppe_residual());
+  res.add("wall_clearance_corrections", static_cast<double>(solver.clearance_corrections()));
+  res.add("n_particles", static_cast<double>(p.size()));
+  res.add("n_fluid", static_cast<double>(n_fluid));
+  res.message = steady ? "steady at t = " + std::to_string(t) : "reached t_end";
+
+  if (!ctx.output_dir.empty()) {
+    io::H5Writer w(ctx.output_dir /
+                   (std::string(cylinder ? "cavity_cylinder" : "lid_driven_cavity") + ".h5"));
+    w.attribute("scheme", std::string("isph"));
+    w.attribute("visc", get_string(prm, "visc"));
+    w.attribute("Re", Re);
+    w.attribute("dx", dx);
+    w.attribute("t_stop", t);
+    w.write_columns("history", {"t", "ke", "div_max", "ppe_iters"}, {h_t, h_ke, h_div, h_it});
+    w.write_columns("profile_x0.5", {"y", "ux"}, {prof.y_line, prof.ux_line});
+    w.write_columns("profile_y0.5", {"x", "uy"}, {prof.x_line, prof.uy_line});
+    // Pressure relative to its fluid mean (the level of a closed cavity is arbitrary).
+    std::vector<double> fx, fy, fu, fv, fp;
+    double p_mean = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == Kind::Fluid)
+        fx.push_back(p.r[i].x()), fy.push_back(p.r[i].y()), fu.push_back(p.v[i].x()),
+            fv.push_back(p.v[i].y()), fp.push_back(p.p[i]), p_mean += p.p[i];
+    p_mean /= static_cast<double>(fp.size());
+    for (auto& x : fp)
+      x -= p_mean;
+    w.write_columns("fields", {"x", "y", "ux", "uy", "p"}, {fx, fy, fu, fv, fp});
+    w.close();
+  }
+  return res;
+}
+
+} // namespace
+
+RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder) {
+  auto it = prm.find("scheme");
+  const std::string scheme = it == prm.end() ? "isph" : get_string(prm, "scheme");
+  omp_set_num_threads(std::max(1, ctx.threads));
+  if (scheme == "isph") {
+    const IsphOptions opt = IsphOptions::from_params(prm);
+    const double h = opt.h_over_dx * get_real(prm, "dx");
+    return with_kernel<2>(opt.kernel, h, [&](const auto& kernel) {
+      return run_cavity_isph(prm, ctx, cylinder, kernel, opt);
+    });
+  }
+  throw std::invalid_argument("cavity: unknown scheme '" + scheme + "'");
+}
+
+} // namespace sph

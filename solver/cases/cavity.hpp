@@ -1,0 +1,35 @@
+// Shared by the cases "lid_driven_cavity" and "cavity_cylinder" (seed 001, Zheng, Ma & Shao
+// 2018, sections 5.1 and 5.2): the geometry builder, the parameters and the run entry point,
+// which dispatches on the scheme. A scheme added to these cases adds one branch in run_cavity
+// (cavity.cpp) and reuses build_cavity and cavity_profile_metrics (diagnostics/).
+//
+// Geometry: unit square cavity H = L = 1, fluid particles on the cell-centred lattice
+// ((i + 1/2) dx, (j + 1/2) dx), surrounded by `layers` layers of wall particles on the same
+// lattice. Wall particles above y = 1 (the whole top band, corners included) form the lid with
+// prescribed velocity (U0, 0); the others are at rest. With cylinder_d > 0 a cylinder of that
+// diameter at (0.5, 0.5): lattice points inside it within `layers` dx of its surface are Body
+// particles at rest, deeper points are left out. Mass m = rho0 dx^2, rho0 = 1.
+#pragma once
+
+#include "cases/case.hpp"
+#include "core/particles.hpp"
+
+namespace sph {
+
+struct CavityGeometry {
+  double dx = 0.01;
+  int layers = 3;
+  double U0 = 1.0;
+  double cylinder_d = 0.0; // 0: empty cavity
+};
+
+// Fills p (must be empty) and returns the index of the vector field "v_wall" holding every
+// particle's prescribed wall velocity (zero for fluid). Throws if 1/dx is not an integer.
+int build_cavity(Particles<2>& p, const CavityGeometry& g);
+
+// The cases' own parameters (Re, dx, dt, t_end, steady-state criterion, output interval).
+std::vector<ParamSpec> cavity_params(bool cylinder);
+
+RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder);
+
+} // namespace sph

@@ -1,0 +1,434 @@
+// Case "cylinder_channel": 2D flow past a circular cylinder in a channel (seed 004, Kolukisa,
+// Ozbulut & Yildiz 2021, section 3 and Figure 1), run with the ALSPH scheme (schemes/alsph).
+//
+// Units: D = 1, U = 1, rho = 1, nu = 1 / Re; times in D/U.
+// Geometry: channel [0, L] x [0, H], L = channel_length D (14), H = channel_height D (13),
+// cylinder centre (upstream_length D, H/2) (L_U = 4 D). Fluid starts on a Cartesian lattice of
+// spacing dx = D / D_over_dx with u = (U, 0), p = 0, outside the cylinder.
+// Boundaries:
+//   top/bottom  free-slip mirror ghosts (Figure 2), regenerated every step within one support;
+//   inlet       buffer zone x in [-L_b, 0) of L_b >= 6h (whole lattice columns) moving at U; a
+//               buffer particle crossing x = 0 becomes fluid and a new one enters at x - L_b;
+//               buffer pressure = Shepard average of the neighbouring fluid pressures;
+//   outlet      fluid crossing x = L becomes outlet buffer: velocity frozen (its normal component
+//               preserved) until it leaves x = L + L_b; buffer pressure p = 0 (reference);
+//   cylinder    fixed particles on radial rings at spacing dx (radii R - (k + 1/2) dx, ring k with
+//               round(2 pi r_k / dx) particles) down to one kernel support deep (deeper particles
+//               never meet fluid), u = 0, pressure from eq. (20) (see schemes/alsph/alsph.hpp).
+// Forces (section 3): the paper sums V_i rho_i a_i over the cylinder particles; we compute the same
+// force as the reaction of the fluid-body pair forces (Newton's third law):
+//   F = sum_{i fluid} sum_{j body} [ V_i V_j (p_i + p_j) grad_i W_ij
+//                                    - 2 mu V_i V_j (r_ij . grad_i W_ij)/(r_ij^2 + eta^2) (u_i -
+//                                    u_j) ],
+// which needs no pressures deeper inside the cylinder than one support.
+// C_D = 2 F_x / (rho U^2 D), C_L = 2 F_y / (rho U^2 D); C_p(theta) = 2 (p - p_0) / (rho U^2) on the
+// outer cylinder ring, theta from the upstream stagnation point, counter-clockwise,
+// p_0 = mean pressure of the fluid with x < D/2 (the "instantaneous mean inlet pressure").
+//
+// Symmetry breaking: the set-up is mirror-symmetric about y = H/2 and the solver keeps that
+// symmetry to round-off, so shedding would start only after O(100) D/U; the initial fluid velocity
+// gets a transverse component perturbation * U * exp(-|x - x_c - (D, 0)|^2 / D^2) (parameter
+// `perturbation`, default 0.05; 0 for the symmetric start). The periodic state does not depend on
+// it; only the onset time does.
+// Metrics (averages over t >= settle_fraction t_end): cd_mean (eq. 21), cl_rms (eq. 23), St = f D/U
+// of C_L (zero crossings; st_cycles periods; St_spectral from the periodogram peak), cd_amplitude,
+// cl_amplitude (half peak-to-peak), div_mean (mean over steps of the mean |div u| over fluid),
+// div_max_mean, iterations_mean, converged_fraction (steps meeting eq. 13 before max_iterations),
+// t_diverged (only for a diverged run), costs (wall_s, steps, n_particles, search_s_per_step,
+// geometry_s_per_step, iteration_s, iteration_us_per_particle, search_over_iteration).
+// HDF5 (<output_dir>/cylinder_channel.h5): series/{t,cd,cl,div_mean,div_max,iterations},
+// cp/{theta,cp_mean}.
+#include "cases/case.hpp"
+#include "core/cell_list.hpp"
+#include "core/kernels/quintic_spline.hpp"
+#include "core/neighbor_list.hpp"
+#include "diagnostics/signal.hpp"
+#include "io/hdf5.hpp"
+#include "schemes/alsph/alsph.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <omp.h>
+#include <sstream>
+
+namespace sph {
+namespace {
+
+constexpr int D = 2;
+using V2 = Vec<2>;
+
+// Removes the particles with keep[i] == 0, preserving order, for every field the case uses (the
+// common ones and the normal vector field).
+void compact(Particles<D>& p, const std::vector<char>& keep, int normal_field) {
+  std::size_t w = 0;
+  auto& nrm = p.vector(normal_field);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!keep[i])
+      continue;
+    if (w != i) {
+      p.r[w] = p.r[i], p.v[w] = p.v[i], p.m[w] = p.m[i], p.rho[w] = p.rho[i], p.p[w] = p.p[i];
+      p.V[w] = p.V[i], p.kind[w] = p.kind[i], p.id[w] = p.id[i], nrm[w] = nrm[i];
+    }
+    ++w;
+  }
+  p.r.resize(w), p.v.resize(w), p.m.resize(w), p.rho.resize(w), p.p.resize(w), p.V.resize(w);
+  p.kind.resize(w), p.id.resize(w), nrm.resize(w);
+}
+
+// Buffer pressure: inlet (x < 0) Shepard average of fluid neighbours; outlet p = 0.
+struct BufferPressureOp {
+  const std::vector<Kind>& kind;
+  const std::vector<V2>& r;
+  std::vector<double>& p;
+  struct Acc {
+    double num = 0.0, den = 0.0;
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t, const Pair<D>& q, Acc& a) const {
+    if (kind[q.j] == Kind::Fluid)
+      a.num += q.W * p[q.j], a.den += q.W;
+  }
+  void finish(std::size_t i, const Acc& a) {
+    p[i] = (r[i][0] < 0.0 && a.den > 0.0) ? a.num / a.den : 0.0;
+  }
+};
+
+// Force of the body particles on each fluid particle (see header comment), stored per particle.
+struct BodyForceOp {
+  const std::vector<Kind>& kind;
+  const std::vector<double>& V;
+  const std::vector<double>& p;
+  const std::vector<V2>& u;
+  double mu, eta2;
+  std::vector<V2>& f;
+  struct Acc {
+    V2 f = V2::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    if (kind[q.j] != Kind::Body)
+      return;
+    const V2 gw = q.grad();
+    const double vv = V[i] * V[q.j];
+    a.f -= vv * (p[i] + p[q.j]) * gw;
+    a.f += (2.0 * mu * vv * q.r_ij.dot(gw) / (q.r * q.r + eta2)) * (u[i] - u[q.j]);
+  }
+  void finish(std::size_t i, const Acc& a) { f[i] = a.f; }
+};
+
+RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  omp_set_num_threads(std::max(1, ctx.threads));
+  const double Re = get_real(prm, "Re");
+  const double dx = 1.0 / get_real(prm, "D_over_dx");
+  const double h = get_real(prm, "h_over_dx") * dx;
+  const double dt = get_real(prm, "dt_star") * dx; // dt U / dx, U = 1
+  const double t_end = get_real(prm, "t_end");
+  const double t_settle = get_real(prm, "settle_fraction") * t_end;
+  const double speed_bound = get_real(prm, "speed_bound");
+  const double perturbation = get_real(prm, "perturbation");
+  const int nx = static_cast<int>(std::lround(get_real(prm, "channel_length") / dx));
+  const int ny = static_cast<int>(std::lround(get_real(prm, "channel_height") / dx));
+  const double L = nx * dx, H = ny * dx;
+  const V2 c(get_real(prm, "upstream_length"), 0.5 * H);
+  const double R = 0.5, U = 1.0, rho = 1.0, nu = U * 1.0 / Re;
+
+  alsph::Settings s;
+  s.c_bv = get_real(prm, "c_bv");
+  s.epsilon = get_real(prm, "epsilon");
+  s.max_iterations = static_cast<int>(get_int(prm, "max_iterations"));
+  s.algorithm = static_cast<int>(get_int(prm, "algorithm"));
+  s.shifting = get_bool(prm, "shifting");
+  s.nu = nu, s.rho = rho, s.dt = dt;
+
+  const QuinticSpline<D> kernel(h);
+  const double support = kernel.support();
+  const int nb = static_cast<int>(std::ceil(6.0 * h / dx - 1e-9));
+  const double Lb = nb * dx;
+  if (c[0] - R < 2.0 * support || c[0] + R > L - 2.0 * support || R + 2 * support > 0.5 * H)
+    throw std::invalid_argument("cylinder_channel: the cylinder must lie two supports inside");
+
+  // --- initial particles -------------------------------------------------------------------
+  Particles<D> p;
+  const int normal = p.add_vector("normal");
+  const double mass = rho * dx * dx;
+  std::int64_t next_id = 0;
+  auto add = [&](const V2& x, Kind k, const V2& v) {
+    const std::size_t i = p.add(x, mass, rho, k);
+    p.v[i] = v;
+    p.id[i] = next_id++;
+    return i;
+  };
+  // Body rings, outer ring first: its particles are ids [0, n_ring0).
+  std::vector<double> theta0;
+  for (int k = 0;; ++k) {
+    const double rk = R - (k + 0.5) * dx;
+    if (rk <= 0.25 * dx || (k + 0.5) * dx > support + 0.5 * dx)
+      break;
+    const int n = std::max(1, static_cast<int>(std::lround(2.0 * std::numbers::pi * rk / dx)));
+    for (int a = 0; a < n; ++a) {
+      const double th = (a + 0.5) * 2.0 * std::numbers::pi / n; // from the upstream point
+      const V2 nrm(-std::cos(th), std::sin(th));
+      const std::size_t i = add(c + rk * nrm, Kind::Body, V2::Zero());
+      p.vector(normal)[i] = nrm;
+      if (k == 0)
+        theta0.push_back(th);
+    }
+  }
+  const std::size_t n_ring0 = theta0.size();
+  for (int j = 0; j < ny; ++j) {
+    for (int i = -nb; i < nx; ++i) {
+      const V2 x((i + 0.5) * dx, (j + 0.5) * dx);
+      if ((x - c).norm() < R)
+        continue;
+      // Symmetry breaking (see header): a transverse nudge centred one D behind the cylinder.
+      const V2 w = x - c - V2(1.0, 0.0);
+      add(x, i < 0 ? Kind::Buffer : Kind::Fluid,
+          V2(U, i < 0 ? 0.0 : perturbation * U * std::exp(-w.squaredNorm())));
+    }
+  }
+
+  Domain<D> box; // not periodic: the cell list follows the particles
+  CellList<D> cells(box, support);
+  NeighborList<D> nl;
+  MirrorGhosts<D> ghosts;
+  alsph::Scheme<D, QuinticSpline<D>> scheme(kernel, s);
+  std::vector<char> keep;
+  std::vector<std::int64_t> ghost_src_old; // per particle before the build: source index or -1
+  std::vector<std::uint32_t> inv;
+  std::vector<V2> fbody;
+  const double eta2 = std::pow(s.eta_over_h * h, 2);
+
+  std::vector<double> ts, cds, cls, divs, divmax, iters;
+  std::vector<double> cp_sum(n_ring0, 0.0);
+  double cp_time = 0.0;
+  long steps = 0, converged_steps = 0, total_iterations = 0;
+  double search_s = 0.0;
+  std::size_t n_max = 0;
+  RunResult res;
+  RunStatus status = RunStatus::Done;
+  std::string why;
+  double t = 0.0;
+  auto buffer_pressure = [&](Particles<D>& q, const NeighborList<D>& list) {
+    BufferPressureOp op{q.kind, q.r, q.p};
+    interact(list, op, [&](std::size_t i) { return q.kind[i] == Kind::Buffer; });
+  };
+
+  const long n_steps = static_cast<long>(std::ceil(t_end / dt - 1e-9));
+  for (long step = 0; step < n_steps; ++step) {
+    if (ctx.cancelled()) {
+      status = RunStatus::Cancelled;
+      why = "cancelled";
+      break;
+    }
+    // 1. Drop last step's ghosts and particles that left the outlet buffer.
+    keep.assign(p.size(), 1);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == Kind::Wall || p.r[i][0] >= L + Lb)
+        keep[i] = 0;
+    compact(p, keep, normal);
+    // 2. Inlet: buffer particles crossing x = 0 become fluid, a new one enters L_b upstream.
+    //    Outlet: fluid crossing x = L becomes buffer (velocity frozen from now on).
+    const std::size_t n0 = p.size();
+    for (std::size_t i = 0; i < n0; ++i) {
+      if (p.kind[i] == Kind::Buffer && p.r[i][0] >= 0.0 && p.r[i][0] < 0.5 * L) {
+        p.kind[i] = Kind::Fluid;
+        const std::size_t k = add(V2(p.r[i][0] - Lb, p.r[i][1]), Kind::Buffer, V2(U, 0.0));
+        p.p[k] = p.p[i];
+      } else if (p.kind[i] == Kind::Fluid && p.r[i][0] >= L) {
+        p.kind[i] = Kind::Buffer;
+      }
+    }
+    // 3. Mirror ghosts of every particle within one support of the top or bottom wall.
+    const std::size_t n1 = p.size();
+    ghost_src_old.assign(n1, -1);
+    for (std::size_t i = 0; i < n1; ++i) {
+      if (p.kind[i] != Kind::Fluid && p.kind[i] != Kind::Buffer)
+        continue;
+      const double y = p.r[i][1];
+      for (int side = 0; side < 2; ++side) {
+        const double plane = side == 0 ? 0.0 : H;
+        if (std::abs(y - plane) >= support)
+          continue;
+        V2 x = p.r[i];
+        x[1] = 2.0 * plane - y;
+        V2 v = p.v[i];
+        v[1] = -v[1];
+        const std::size_t g = add(x, Kind::Wall, v);
+        p.p[g] = p.p[i];
+        ghost_src_old.push_back(static_cast<std::int64_t>(i));
+      }
+    }
+    n_max = std::max(n_max, p.size());
+    // 4. The one neighbour search of the step.
+    const double ts0 = omp_get_wtime();
+    cells.build(p);
+    nl.build(cells, p.r, kernel);
+    search_s += omp_get_wtime() - ts0;
+    // 5. Ghost -> source in the new order.
+    const auto& perm = cells.perm();
+    inv.resize(perm.size());
+    for (std::size_t i = 0; i < perm.size(); ++i)
+      inv[perm[i]] = static_cast<std::uint32_t>(i);
+    ghosts.clear();
+    for (std::size_t i = 0; i < perm.size(); ++i) {
+      const std::int64_t so = ghost_src_old[perm[i]];
+      if (so < 0)
+        continue;
+      const std::uint32_t src = inv[static_cast<std::size_t>(so)];
+      ghosts.add(static_cast<std::uint32_t>(i), src, 1, p.r[src][1] < 0.5 * H ? 0.0 : H);
+    }
+    // 6. ALSPH step.
+    const alsph::StepStats st = scheme.step(p, nl, ghosts, p.vector(normal), buffer_pressure);
+    t = (step + 1) * dt;
+    ++steps;
+    total_iterations += st.iterations;
+    converged_steps += st.converged ? 1 : 0;
+
+    // 7. Forces and pressure coefficient.
+    fbody.resize(p.size());
+    BodyForceOp fo{p.kind, p.V, p.p, p.v, rho * nu, eta2, fbody};
+    interact(nl, fo, [&](std::size_t i) { return p.kind[i] == Kind::Fluid; });
+    V2 F = V2::Zero();
+    double p0 = 0.0;
+    long n_in = 0;
+    bool bad = false;
+    double vmax2 = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.kind[i] != Kind::Fluid)
+        continue;
+      F -= fbody[i];
+      if (p.r[i][0] < 0.5)
+        p0 += p.p[i], ++n_in;
+      vmax2 = std::max(vmax2, p.v[i].squaredNorm());
+      if (!std::isfinite(p.p[i]) || !std::isfinite(p.v[i][0]) || !std::isfinite(p.v[i][1]) ||
+          std::abs(p.r[i][1] - 0.5 * H) > 0.5 * H + support || p.r[i][0] < -Lb - support)
+        bad = true;
+    }
+    p0 = n_in ? p0 / n_in : 0.0;
+    const double q = 0.5 * rho * U * U * 1.0;
+    ts.push_back(t), cds.push_back(F[0] / q), cls.push_back(F[1] / q);
+    divs.push_back(st.div_mean), divmax.push_back(st.div_max), iters.push_back(st.iterations);
+    if (t >= t_settle) {
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (p.kind[i] == Kind::Body && static_cast<std::size_t>(p.id[i]) < n_ring0)
+          cp_sum[p.id[i]] += dt * (p.p[i] - p0) / q;
+      cp_time += dt;
+    }
+    // 8. Divergence detection.
+    if (bad || !std::isfinite(F[0]) || !std::isfinite(F[1]) || std::sqrt(vmax2) > speed_bound * U) {
+      status = RunStatus::Diverged;
+      std::ostringstream os;
+      os << "diverged at t = " << t << " (step " << steps
+         << "): " << (bad ? "NaN or particle out of the channel" : "speed or force beyond bound")
+         << ", max |u| = " << std::sqrt(vmax2);
+      why = os.str();
+      break;
+    }
+    ctx.report(t / t_end);
+  }
+
+  // --- metrics -----------------------------------------------------------------------------
+  const double t_avg = std::min(t_settle, ts.empty() ? 0.0 : ts.back());
+  auto add_if = [&](const char* name, double v) {
+    if (std::isfinite(v))
+      res.add(name, v);
+  };
+  add_if("cd_mean", diag::time_mean(ts, cds, t_avg));
+  add_if("cl_rms", diag::time_rms(ts, cls, t_avg));
+  const diag::Frequency fz = diag::zero_crossing_frequency(ts, cls, t_avg);
+  const diag::Frequency fs = diag::spectral_peak_frequency(ts, cls, t_avg);
+  res.add("St", fz.f * 1.0 / U);
+  res.add("st_cycles", fz.cycles);
+  res.add("St_spectral", fs.f * 1.0 / U);
+  double cdmin = 1e300, cdmax = -1e300, clmin = 1e300, clmax = -1e300;
+  for (std::size_t k = 0; k < ts.size(); ++k)
+    if (ts[k] >= t_avg)
+      cdmin = std::min(cdmin, cds[k]), cdmax = std::max(cdmax, cds[k]),
+      clmin = std::min(clmin, cls[k]), clmax = std::max(clmax, cls[k]);
+  if (cdmax >= cdmin) {
+    res.add("cd_amplitude", 0.5 * (cdmax - cdmin));
+    res.add("cl_amplitude", 0.5 * (clmax - clmin));
+  }
+  add_if("div_mean", diag::time_mean(ts, divs, t_avg));
+  add_if("div_max_mean", diag::time_mean(ts, divmax, t_avg));
+  res.add("iterations_mean", steps ? double(total_iterations) / steps : 0.0);
+  res.add("converged_fraction", steps ? double(converged_steps) / steps : 0.0);
+  if (status == RunStatus::Diverged)
+    res.add("t_diverged", t);
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const auto& tm = scheme.timers();
+  res.add("wall_s", wall);
+  res.add("steps", static_cast<double>(steps));
+  res.add("t_end_reached", t);
+  res.add("n_particles", static_cast<double>(n_max));
+  res.add("dt", dt);
+  if (steps > 0) {
+    const double it_s = total_iterations ? tm.iterations / total_iterations : 0.0;
+    res.add("search_s_per_step", search_s / steps);
+    res.add("geometry_s_per_step", tm.geometry / steps);
+    res.add("shifting_s_per_step", tm.shifting / steps);
+    res.add("iteration_s", it_s);
+    res.add("iteration_us_per_particle", 1e6 * it_s / std::max<std::size_t>(n_max, 1));
+    if (it_s > 0)
+      res.add("search_over_iteration", (search_s / steps) / it_s);
+  }
+  res.message = why;
+
+  if (!ctx.output_dir.empty()) {
+    std::filesystem::create_directories(ctx.output_dir);
+    io::H5Writer w(ctx.output_dir / "cylinder_channel.h5");
+    w.write_columns("series", {"t", "cd", "cl", "div_mean", "div_max", "iterations"},
+                    {ts, cds, cls, divs, divmax, iters});
+    std::vector<double> cp_mean(n_ring0, 0.0);
+    for (std::size_t k = 0; k < n_ring0; ++k)
+      cp_mean[k] = cp_time > 0 ? cp_sum[k] / cp_time : 0.0;
+    w.write("cp/theta", theta0);
+    w.write("cp/cp_mean", cp_mean);
+    w.attribute("case", "cylinder_channel");
+    w.attribute("scheme", "alsph");
+    w.attribute("Re", Re);
+    w.attribute("D_over_dx", 1.0 / dx);
+    w.attribute("dt_star", dt / dx);
+    w.attribute("t_settle", t_avg);
+    w.attribute("status", status == RunStatus::Done       ? "done"
+                          : status == RunStatus::Diverged ? "diverged"
+                                                          : "cancelled");
+    w.close();
+  }
+  res.status = status;
+  return res;
+}
+
+} // namespace
+
+CaseInfo make_cylinder_channel_case() {
+  CaseInfo c;
+  c.name = "cylinder_channel";
+  c.description = "2D flow past a cylinder in a channel, C_D, C_L, St (Kolukisa, Ozbulut & "
+                  "Yildiz 2021, Symmetry 13:472, section 3)";
+  c.schemes = {"alsph"};
+  c.params = {
+      {"Re", ParamType::Real, 200.0, "Reynolds number U D / nu", 0.0, 1e5, true},
+      {"D_over_dx", ParamType::Real, 20.0, "particles per cylinder diameter D / dx", 4.0, 400.0},
+      {"dt_star", ParamType::Real, 5.08e-3, "dimensionless time step dt U / dx", 0.0, 10.0, true},
+      {"t_end", ParamType::Real, 100.0, "simulated time in D / U", 0.0, 1e5, true},
+      {"settle_fraction", ParamType::Real, 0.5, "averages and St use t >= settle_fraction * t_end",
+       0.0, 0.99},
+      {"channel_length", ParamType::Real, 14.0, "channel length L in D", 2.0, 1000.0},
+      {"channel_height", ParamType::Real, 13.0, "channel height H in D", 2.0, 1000.0},
+      {"upstream_length", ParamType::Real, 4.0, "cylinder centre to inlet L_U in D", 1.0, 1000.0},
+      {"h_over_dx", ParamType::Real, 1.2, "smoothing length h / dx (quintic kernel, support 3h)",
+       0.5, 3.0},
+      {"perturbation", ParamType::Real, 0.05,
+       "initial transverse velocity nudge behind the cylinder, in U (breaks the symmetry)", 0.0,
+       1.0},
+      {"speed_bound", ParamType::Real, 10.0, "diverged when max |u| exceeds this many U", 1.0, 1e6},
+  };
+  c.run = [](const Params& prm, const RunContext& ctx) { return run_cylinder_channel(prm, ctx); };
+  return c;
+}
+
+} // namespace sph

@@ -1,0 +1,433 @@
+// ALSPH: augmented-Lagrangian SPH for incompressible flow (seed 004: Kolukisa, Ozbulut & Yildiz
+// 2021, Symmetry 13, 472, section 2; Fatehi et al. 2019, Comput. Fluids 185).
+//
+// One time step n -> n+1, with iterations m = 0, 1, ... (u^{n+1,0} = u^n, p^{n+1,0} = p^n):
+//   r_AL = C_BV u_max^2 dt                                  (after eq. 8; fixed during the step)
+//   u*   = u^n + r_AL dt <grad(div u^{m})> + nu dt <lap u^{m}> + g dt                  (eq. 8)
+//   p^{m+1} = p^m - r_AL rho ( <div u*> - dt/rho <lap p^m> )                            (eq. 10)
+//   p on body particles: p_s = p + (dp/dn) r_s, dp/dn = rho (Du_s/Dt) . n               (eq. 20)
+//   u^{m+1} = u* - dt/rho <grad p^{m+1}>                                                (eq. 11)
+//   r^{m+1} = r^n + (u^n + u^{m+1}) dt / 2                                              (eq. 12)
+//   stop when max_i |<div u^{m+1}>| <= epsilon (eq. 13) or after max_iterations updates;
+//   then artificial particle displacement (eq. 18) with the Taylor correction of u, p (eq. 19).
+// Derivatives (eqs. 15-17): V_i = 1/sum_j W_ij (after eq. 14, SummationDensity), alpha_i (eq. 17)
+// inverted as Gamma_i (CorrectionMatrix), gradient sum_j V_j (f_j - f_i) Gamma_i grad_i W_ij
+// (eq. 15, CorrectedGradient), divergence its trace, Laplacian in the kernel-corrected Morris form
+//   lap f_i = 2 sum_j V_j (f_i - f_j) (r_ij . Gamma_i grad_i W_ij) / (r_ij^2 + eta^2),
+// which is how we read eq. (16) (its printed tensor form does not contract to a scalar; this is
+// the same operator as VISC-04 of seed 001, eq. 20, second-order on a regular lattice).
+//
+// One neighbour search per step: the NeighborList built on r^n is reused by every iteration.
+//   algorithm 2: derivatives on r^n (the cached W, dW, Gamma, V are used unchanged);
+//   algorithm 1: derivatives on r^{n+1,m}: before iteration m >= 1 the cached pair list is kept
+//     but r_ij, r, W, dW are recomputed from the moved positions (r_ij += dr_i - dr_j, so periodic
+//     images stay correct), then V and Gamma are recomputed. Pairs that enter the support during
+//     the step are missed (displacements within a step are <= u_max dt, a few % of dx here).
+// Particle roles by Kind: Fluid is integrated; Body is fixed (u = 0) and gets eq. (20); Buffer
+// keeps its velocity (inlet/outlet zones, pressure set by the case's hook); Wall are mirror ghosts
+// (MirrorGhosts) synchronised after every update.
+#pragma once
+
+#include "core/neighbor_list.hpp"
+#include "core/particles.hpp"
+#include "operators/correction_matrix.hpp"
+#include "operators/interact.hpp"
+#include "operators/summation_density.hpp"
+#include "schemes/alsph/mirror_ghosts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <omp.h>
+
+namespace sph::alsph {
+
+struct Settings {
+  double c_bv = 100.0;     // C_BV in r_AL = C_BV u_max^2 dt
+  double epsilon = 1e-3;   // eq. (13) tolerance on max |div u| (1 / time unit)
+  int max_iterations = 5;  // updates per step at most
+  int algorithm = 1;       // 1: derivatives on r^{n+1,m}; 2: on r^n
+  double nu = 1e-2;        // kinematic viscosity
+  double rho = 1.0;        // density (constant)
+  double dt = 1e-3;        // time step
+  double eta_over_h = 0.1; // singularity guard eta in r^2 + eta^2 of the Laplacian
+  bool shifting = true;    // eq. (18)-(19)
+};
+
+struct StepStats {
+  int iterations = 0;     // updates done (eqs. 8-12)
+  bool converged = false; // eq. (13) met before max_iterations
+  double div_max = 0.0;   // max |div u| over fluid at the end of the step
+  double div_mean = 0.0;  // mean |div u| over fluid at the end of the step
+  double r_al = 0.0;
+  double u_max = 0.0;
+};
+
+// Wall-clock seconds spent in the parts of the step (accumulated over steps).
+struct Timers {
+  double geometry = 0.0;   // V, Gamma (and, algorithm 1, the pair refresh)
+  double iterations = 0.0; // eqs. (8)-(12) and the convergence check
+  double shifting = 0.0;   // eqs. (18)-(19)
+  long evaluations = 0;    // derivative evaluations of the velocity (one per iteration + final)
+};
+
+namespace ops {
+
+// <grad u>, <div u> = tr <grad u>, <lap u> (eqs. 15-17).
+template <int D>
+struct VelocityDerivatives {
+  const std::vector<double>& V;
+  const std::vector<Mat<D>>& gamma;
+  const std::vector<Vec<D>>& u;
+  double eta2;
+  std::vector<Mat<D>>& grad_u;
+  std::vector<double>& div;
+  std::vector<Vec<D>>& lap_u;
+
+  struct Acc {
+    Mat<D> g = Mat<D>::Zero();
+    Vec<D> lap = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    const Vec<D> gw = gamma[i] * q.grad();
+    const Vec<D> du = u[q.j] - u[i];
+    a.g.noalias() += V[q.j] * du * gw.transpose();
+    a.lap -= (2.0 * V[q.j] * q.r_ij.dot(gw) / (q.r * q.r + eta2)) * du;
+  }
+  void finish(std::size_t i, const Acc& a) {
+    grad_u[i] = a.g;
+    div[i] = a.g.trace();
+    lap_u[i] = a.lap;
+  }
+};
+
+// <grad(div u)> and the intermediate velocity u* (eq. 8); on body particles the pseudo
+// acceleration Du_s/Dt = (u*_s - 0) / dt used by eq. (20).
+template <int D>
+struct Predict {
+  const std::vector<double>& V;
+  const std::vector<Mat<D>>& gamma;
+  const std::vector<double>& div;
+  const std::vector<Vec<D>>& lap_u;
+  const std::vector<Vec<D>>& u_n;
+  const std::vector<Kind>& kind;
+  double r_al, nu, dt;
+  Vec<D> g;
+  std::vector<Vec<D>>& u_star;
+  std::vector<Vec<D>>& a_s;
+
+  struct Acc {
+    Vec<D> gd = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    a.gd += (V[q.j] * (div[q.j] - div[i])) * (gamma[i] * q.grad());
+  }
+  void finish(std::size_t i, const Acc& a) {
+    const Vec<D> acc = r_al * a.gd + nu * lap_u[i];
+    if (kind[i] == Kind::Body) {
+      a_s[i] = acc;
+      u_star[i] = Vec<D>::Zero();
+    } else {
+      u_star[i] = u_n[i] + dt * (acc + g);
+    }
+  }
+};
+
+// Pressure update (eq. 10) into p_new.
+template <int D>
+struct PressureUpdate {
+  const std::vector<double>& V;
+  const std::vector<Mat<D>>& gamma;
+  const std::vector<Vec<D>>& u_star;
+  const std::vector<double>& p;
+  double eta2, r_al, rho, dt;
+  std::vector<double>& p_new;
+  std::vector<double>& div_star;
+
+  struct Acc {
+    double div = 0.0, lap = 0.0;
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    const Vec<D> gw = gamma[i] * q.grad();
+    a.div += V[q.j] * (u_star[q.j] - u_star[i]).dot(gw);
+    a.lap += 2.0 * V[q.j] * q.r_ij.dot(gw) / (q.r * q.r + eta2) * (p[i] - p[q.j]);
+  }
+  void finish(std::size_t i, const Acc& a) {
+    div_star[i] = a.div;
+    p_new[i] = p[i] - r_al * rho * (a.div - dt / rho * a.lap);
+  }
+};
+
+// Body pressure, eq. (20): p_s = p_j + (dp/dn) (r_s - r_j) . n, dp/dn = rho (Du_s/Dt) . n,
+// averaged over the fluid neighbours j with weights W_sj.
+template <int D>
+struct BodyPressure {
+  const std::vector<Kind>& kind;
+  const std::vector<Vec<D>>& a_s;
+  const std::vector<Vec<D>>& normal;
+  double rho;
+  std::vector<double>& p;
+
+  struct Acc {
+    double num = 0.0, den = 0.0, dpdn = 0.0;
+    Vec<D> n = Vec<D>::Zero();
+  };
+  Acc init(std::size_t i) const {
+    Acc a;
+    a.n = normal[i];
+    a.dpdn = rho * a_s[i].dot(a.n);
+    return a;
+  }
+  void pair(std::size_t, const Pair<D>& q, Acc& a) const {
+    if (kind[q.j] != Kind::Fluid)
+      return;
+    a.num += q.W * (p[q.j] + a.dpdn * q.r_ij.dot(a.n));
+    a.den += q.W;
+  }
+  void finish(std::size_t i, const Acc& a) { p[i] = a.den > 0.0 ? a.num / a.den : 0.0; }
+};
+
+// Velocity update (eq. 11) with the corrected pressure gradient (eq. 15).
+template <int D>
+struct Correct {
+  const std::vector<double>& V;
+  const std::vector<Mat<D>>& gamma;
+  const std::vector<double>& p;
+  const std::vector<Vec<D>>& u_star;
+  double dt_over_rho;
+  std::vector<Vec<D>>& grad_p;
+  std::vector<Vec<D>>& u;
+
+  struct Acc {
+    Vec<D> g = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    a.g += (V[q.j] * (p[q.j] - p[i])) * (gamma[i] * q.grad());
+  }
+  void finish(std::size_t i, const Acc& a) {
+    grad_p[i] = a.g;
+    u[i] = u_star[i] - dt_over_rho * a.g;
+  }
+};
+
+// Artificial particle displacement, eq. (18):
+//   dr_i = sum_j r_ij / r_ij^3 r0^2 u_v dt,  r0 = mean_j r_ij,
+//   u_v = || sum_j (u_i - u_j) W_ij || / sum_j W_ij.
+template <int D>
+struct Displacement {
+  const std::vector<Vec<D>>& u;
+  double dt;
+  std::vector<Vec<D>>& dr;
+
+  struct Acc {
+    Vec<D> s = Vec<D>::Zero(), du = Vec<D>::Zero();
+    double rsum = 0.0, w = 0.0;
+    int n = 0;
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    a.s += q.r_ij / (q.r * q.r * q.r);
+    a.du += (u[i] - u[q.j]) * q.W;
+    a.w += q.W;
+    a.rsum += q.r;
+    ++a.n;
+  }
+  void finish(std::size_t i, const Acc& a) {
+    if (a.n == 0 || a.w <= 0.0) {
+      dr[i] = Vec<D>::Zero();
+      return;
+    }
+    const double r0 = a.rsum / a.n;
+    const double u_v = a.du.norm() / a.w;
+    dr[i] = a.s * (r0 * r0 * u_v * dt);
+  }
+};
+
+} // namespace ops
+
+template <int D, class Kernel>
+class Scheme {
+public:
+  Scheme(const Kernel& kernel, const Settings& s) : kernel_(kernel), s_(s) {
+    eta2_ = std::pow(s.eta_over_h * kernel.h, 2);
+  }
+
+  const Settings& settings() const { return s_; }
+  const Timers& timers() const { return timers_; }
+
+  // Per-particle work arrays (sized to the particle count at each step; no allocation once the
+  // count has reached its maximum). Public for diagnostics: after step(), div holds <div u>,
+  // grad_p <grad p>, a_s the body pseudo-acceleration.
+  std::vector<Vec<D>> r_n, u_n, r_prev, u_star, lap_u, a_s, grad_p, dr;
+  std::vector<Mat<D>> gamma, grad_u;
+  std::vector<double> div, div_star, p_new, trace_b;
+
+  // Advances one step of size settings().dt. nl must have been built on p.r (after the cell list
+  // build); ghosts lists the mirror ghosts in the current order; normal holds the outward normal
+  // of body particles; buffer_pressure(p, nl) sets the pressure of Buffer particles.
+  template <class BufferPressure>
+  StepStats step(Particles<D>& p, NeighborList<D>& nl, const MirrorGhosts<D>& ghosts,
+                 const std::vector<Vec<D>>& normal, BufferPressure&& buffer_pressure,
+                 const Vec<D>& g = Vec<D>::Zero()) {
+    const std::size_t N = p.size();
+    resize(N);
+    const auto& kind = p.kind;
+    auto is_fluid = [&](std::size_t i) { return kind[i] == Kind::Fluid; };
+    auto fluid_or_body = [&](std::size_t i) {
+      return kind[i] == Kind::Fluid || kind[i] == Kind::Body;
+    };
+    auto not_ghost = [&](std::size_t i) { return kind[i] != Kind::Wall; };
+    auto is_body = [&](std::size_t i) { return kind[i] == Kind::Body; };
+
+    StepStats st;
+    double umax2 = 0.0;
+    for (std::size_t i = 0; i < N; ++i) {
+      r_n[i] = p.r[i], u_n[i] = p.v[i], r_prev[i] = p.r[i];
+      if (kind[i] == Kind::Fluid)
+        umax2 = std::max(umax2, p.v[i].squaredNorm());
+    }
+    const double dt = s_.dt;
+    st.u_max = std::sqrt(umax2);
+    st.r_al = s_.c_bv * umax2 * dt;
+
+    double t0 = omp_get_wtime();
+    geometry(p, nl);
+    double t1 = omp_get_wtime();
+    timers_.geometry += t1 - t0;
+
+    int m = 0;
+    for (;; ++m) {
+      if (s_.algorithm == 1 && m > 0) {
+        const double ta = omp_get_wtime();
+        refresh_pairs(p, nl);
+        geometry(p, nl);
+        const double tb = omp_get_wtime();
+        timers_.geometry += tb - ta;
+        t1 += tb - ta; // exclude from the iteration timer
+      }
+      // <grad u>, <div u>, <lap u> on the current iterate (eq. 13 check and input of eq. 8).
+      ops::VelocityDerivatives<D> da{p.V, gamma, p.v, eta2_, grad_u, div, lap_u};
+      interact(nl, da, not_ghost);
+      ++timers_.evaluations;
+      for (std::size_t i = 0; i < N; ++i)
+        if (kind[i] == Kind::Body)
+          div[i] = 0.0; // rigid body
+      ghosts.copy_scalar(div);
+      fluid_divergence(p, st);
+      if (m > 0 && st.div_max <= s_.epsilon) {
+        st.converged = true;
+        break;
+      }
+      if (m >= s_.max_iterations)
+        break;
+
+      // eq. (8): u*; buffers keep their velocity; body u* = 0 (no slip).
+      for (std::size_t i = 0; i < N; ++i)
+        if (kind[i] == Kind::Buffer)
+          u_star[i] = p.v[i];
+      ops::Predict<D> pr{p.V, gamma, div, lap_u, u_n, kind, st.r_al, s_.nu, dt, g, u_star, a_s};
+      interact(nl, pr, fluid_or_body);
+      ghosts.copy_vector(u_star);
+
+      // eq. (10) on fluid, then eq. (20) on the body, buffers (case), ghosts.
+      ops::PressureUpdate<D> pu{p.V,     gamma,  u_star, p.p,   eta2_,
+                                st.r_al, s_.rho, dt,     p_new, div_star};
+      interact(nl, pu, is_fluid);
+      for (std::size_t i = 0; i < N; ++i)
+        if (kind[i] == Kind::Fluid)
+          p.p[i] = p_new[i];
+      ops::BodyPressure<D> bp{kind, a_s, normal, s_.rho, p.p};
+      interact(nl, bp, is_body);
+      buffer_pressure(p, nl);
+      ghosts.copy_scalar(p.p);
+
+      // eq. (11), eq. (12).
+      ops::Correct<D> co{p.V, gamma, p.p, u_star, dt / s_.rho, grad_p, p.v};
+      interact(nl, co, is_fluid);
+      ghosts.copy_vector(p.v);
+      for (std::size_t i = 0; i < N; ++i)
+        if (kind[i] == Kind::Fluid || kind[i] == Kind::Buffer)
+          p.r[i] = r_n[i] + 0.5 * dt * (u_n[i] + p.v[i]);
+      ghosts.copy_positions(p.r);
+    }
+    st.iterations = m;
+    const double t2 = omp_get_wtime();
+    timers_.iterations += t2 - t1;
+
+    if (s_.shifting) {
+      // eq. (18) on the final positions (algorithm 2 has its pairs still on r^n), eq. (19).
+      if (s_.algorithm != 1 || m == 0)
+        refresh_pairs(p, nl);
+      ops::Displacement<D> ds{p.v, dt, dr};
+      interact(nl, ds, is_fluid);
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < N; ++i) {
+        if (kind[i] != Kind::Fluid)
+          continue;
+        p.r[i] += dr[i];
+        p.v[i] += grad_u[i] * dr[i];
+        p.p[i] += grad_p[i].dot(dr[i]);
+      }
+      timers_.shifting += omp_get_wtime() - t2;
+    }
+    return st;
+  }
+
+  // Recomputes r_ij, r, W, dW of the cached pairs from the particles' displacement since the last
+  // refresh (or since r^n); no new search.
+  void refresh_pairs(const Particles<D>& p, NeighborList<D>& nl) {
+    const std::size_t N = nl.num_particles();
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < N; ++i) {
+      const Vec<D> di = p.r[i] - r_prev[i];
+      for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const std::uint32_t j = nl.j[k];
+        const Vec<D> rij = nl.r_ij[k] + di - (p.r[j] - r_prev[j]);
+        const double r = std::max(rij.norm(), 1e-12 * kernel_.h);
+        nl.r_ij[k] = rij, nl.r[k] = r, nl.W[k] = kernel_.W(r), nl.dW[k] = kernel_.dW(r);
+      }
+    }
+    for (std::size_t i = 0; i < N; ++i)
+      r_prev[i] = p.r[i];
+  }
+
+  // V_i = 1 / sum_j W_ij (after eq. 14) and Gamma_i = alpha_i^{-1} (eq. 17) on the pairs' geometry.
+  void geometry(Particles<D>& p, const NeighborList<D>& nl) {
+    SummationDensity<D, Kernel> sd{p, kernel_};
+    interact(nl, sd);
+    CorrectionMatrix<D> cm{p.V, gamma, trace_b};
+    interact(nl, cm);
+  }
+
+private:
+  Kernel kernel_;
+  Settings s_;
+  double eta2_ = 0.0;
+  Timers timers_;
+
+  void resize(std::size_t N) {
+    for (auto* a : {&r_n, &u_n, &r_prev, &u_star, &lap_u, &a_s, &grad_p, &dr})
+      a->resize(N, Vec<D>::Zero());
+    gamma.resize(N, Mat<D>::Identity());
+    grad_u.resize(N, Mat<D>::Zero());
+    for (auto* a : {&div, &div_star, &p_new, &trace_b})
+      a->resize(N, 0.0);
+  }
+
+  void fluid_divergence(const Particles<D>& p, StepStats& st) const {
+    double mx = 0.0, sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == Kind::Fluid) {
+        const double a = std::abs(div[i]);
+        mx = std::max(mx, a), sum += a, ++n;
+      }
+    st.div_max = mx;
+    st.div_mean = n ? sum / n : 0.0;
+  }
+};
+
+} // namespace sph::alsph

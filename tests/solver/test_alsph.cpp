@@ -1,0 +1,210 @@
+// Tests of the ALSPH scheme (seed 004), the cylinder_channel case and the signal diagnostics.
+#include "cases/case.hpp"
+#include "core/cell_list.hpp"
+#include "core/kernels/quintic_spline.hpp"
+#include "core/lattice.hpp"
+#include "core/neighbor_list.hpp"
+#include "diagnostics/signal.hpp"
+#include "schemes/alsph/alsph.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace sph;
+
+namespace {
+
+std::vector<double> linspace_t(double t1, std::size_t n) {
+  std::vector<double> t(n);
+  for (std::size_t k = 0; k < n; ++k)
+    t[k] = t1 * k / (n - 1);
+  return t;
+}
+
+} // namespace
+
+TEST(Signal, MeanAndRmsOfSine) {
+  const auto t = linspace_t(10.0, 20001);
+  std::vector<double> f(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k)
+    f[k] = 1.5 + 2.0 * std::sin(2.0 * std::numbers::pi * 0.5 * t[k]);
+  EXPECT_NEAR(diag::time_mean(t, f), 1.5, 1e-6);
+  // rms of 1.5 + 2 sin: sqrt(1.5^2 + 2^2 / 2)
+  EXPECT_NEAR(diag::time_rms(t, f), std::sqrt(2.25 + 2.0), 1e-6);
+  EXPECT_NEAR(diag::time_mean(t, f, 4.0), 1.5, 1e-6); // 3 whole periods
+}
+
+TEST(Signal, StrouhalOfSineFromZeroCrossingsAndSpectrum) {
+  // A lift-like signal: 0.2 Hz sine with a transient and sample jitter-free steps of 0.01.
+  const double f0 = 0.2134;
+  const auto t = linspace_t(200.0, 20001);
+  std::vector<double> cl(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k)
+    cl[k] = 0.7 * std::sin(2.0 * std::numbers::pi * f0 * t[k] + 0.3) +
+            (t[k] < 50.0 ? 3.0 * std::exp(-t[k]) : 0.0);
+  const auto z = diag::zero_crossing_frequency(t, cl, 60.0);
+  EXPECT_NEAR(z.f, f0, 1e-4 * f0);
+  EXPECT_GE(z.cycles, 27);
+  EXPECT_LT(z.period_std, 1e-3);
+  const auto s = diag::spectral_peak_frequency(t, cl, 60.0);
+  EXPECT_NEAR(s.f, f0, 5e-3 * f0);
+  // A constant signal has no frequency.
+  std::vector<double> c(t.size(), 1.0);
+  EXPECT_EQ(diag::zero_crossing_frequency(t, c).cycles, 0);
+}
+
+namespace {
+
+// Square lattice patch [0, n dx)^2, neighbour list built, fields to test on the interior.
+struct Patch {
+  Particles<2> p;
+  QuinticSpline<2> kernel;
+  CellList<2> cells;
+  NeighborList<2> nl;
+  double dx;
+  explicit Patch(int n, double disorder = 0.0)
+      : kernel(1.0 / n), cells(Domain<2>{}, 3.0 / n), dx(1.0 / n) {
+    UniformRandom rn(7);
+    for_each_lattice_point<2>(
+        {-4, -4}, {n + 4, n + 4}, dx, [&](Vec<2> x, const std::array<int, 2>& i) {
+          x[0] += (rn() - 0.5) * disorder * dx, x[1] += (rn() - 0.5) * disorder * dx;
+          const bool inside = i[0] >= 0 && i[0] < n && i[1] >= 0 && i[1] < n;
+          p.add(x, dx * dx, 1.0, inside ? Kind::Fluid : Kind::Buffer);
+        });
+    cells.build(p);
+    nl.build(cells, p.r, kernel);
+  }
+};
+
+} // namespace
+
+TEST(AlsphOperators, ExactGradientDivergenceForLinearVelocity) {
+  Patch t(20, 0.4);
+  alsph::Settings s;
+  alsph::Scheme<2, QuinticSpline<2>> sc(t.kernel, s);
+  sc.grad_u.resize(t.p.size()), sc.div.resize(t.p.size()), sc.lap_u.resize(t.p.size());
+  sc.gamma.resize(t.p.size()), sc.trace_b.resize(t.p.size());
+  sc.geometry(t.p, t.nl);
+  Mat<2> A;
+  A << 0.3, -1.2, 0.7, 0.5;
+  std::vector<Vec<2>> u(t.p.size());
+  for (std::size_t i = 0; i < u.size(); ++i)
+    u[i] = A * t.p.r[i] + Vec<2>(1.0, 2.0);
+  alsph::ops::VelocityDerivatives<2> op{t.p.V, sc.gamma, u, 0.0, sc.grad_u, sc.div, sc.lap_u};
+  interact(t.nl, op, [&](std::size_t i) { return t.p.kind[i] == Kind::Fluid; });
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    if (t.p.kind[i] != Kind::Fluid)
+      continue;
+    EXPECT_LT((sc.grad_u[i] - A).norm(), 1e-10);
+    EXPECT_NEAR(sc.div[i], A.trace(), 1e-10);
+  }
+}
+
+TEST(AlsphOperators, LaplacianOfQuadraticOnLattice) {
+  Patch t(20);
+  alsph::Settings s;
+  alsph::Scheme<2, QuinticSpline<2>> sc(t.kernel, s);
+  const std::size_t N = t.p.size();
+  sc.grad_u.resize(N), sc.div.resize(N), sc.lap_u.resize(N), sc.gamma.resize(N);
+  sc.trace_b.resize(N);
+  sc.geometry(t.p, t.nl);
+  std::vector<Vec<2>> u(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    const auto& x = t.p.r[i];
+    u[i] = Vec<2>(x[0] * x[0] + 2 * x[1] * x[1], x[0] * x[1]); // lap = (6, 0)
+  }
+  alsph::ops::VelocityDerivatives<2> op{t.p.V, sc.gamma, u, 0.0, sc.grad_u, sc.div, sc.lap_u};
+  interact(t.nl, op, [&](std::size_t i) { return t.p.kind[i] == Kind::Fluid; });
+  for (std::size_t i = 0; i < N; ++i) {
+    if (t.p.kind[i] != Kind::Fluid)
+      continue;
+    EXPECT_NEAR(sc.lap_u[i][0], 6.0, 1e-6);
+    EXPECT_NEAR(sc.lap_u[i][1], 0.0, 1e-6);
+  }
+}
+
+// Algorithm 1's refresh of the cached pairs equals the kernel values of a fresh search on the moved
+// positions for every pair that stays in the list.
+TEST(AlsphOperators, PairRefreshMatchesFreshSearch) {
+  Patch t(16);
+  alsph::Settings s;
+  alsph::Scheme<2, QuinticSpline<2>> sc(t.kernel, s);
+  sc.r_prev = t.p.r;
+  UniformRandom rn(3);
+  for (auto& x : t.p.r)
+    x += Vec<2>(rn() - 0.5, rn() - 0.5) * 0.05 * t.dx;
+  sc.refresh_pairs(t.p, t.nl);
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < t.p.size(); ++i)
+    for (std::uint32_t k = t.nl.offset[i]; k < t.nl.offset[i + 1]; ++k) {
+      const auto j = t.nl.j[k];
+      const Vec<2> rij = t.p.r[i] - t.p.r[j];
+      ASSERT_LT((t.nl.r_ij[k] - rij).norm(), 1e-14);
+      ASSERT_NEAR(t.nl.W[k], t.kernel.W(rij.norm()), 1e-9 * t.kernel.W(0.0));
+      ++checked;
+    }
+  EXPECT_GT(checked, 1000u);
+}
+
+namespace {
+
+Params cylinder_params() {
+  Params prm;
+  for (const auto& sp : find_case("cylinder_channel")->params)
+    prm[sp.name] = sp.default_value;
+  for (const auto& sp : find_scheme("alsph")->params)
+    prm[sp.name] = sp.default_value;
+  prm["scheme"] = std::string("alsph");
+  // Small channel, coarse, short: plumbing and stability, not physics.
+  prm["D_over_dx"] = 6.0, prm["channel_length"] = 6.0, prm["channel_height"] = 4.0;
+  prm["upstream_length"] = 2.0, prm["Re"] = 100.0, prm["dt_star"] = 2.54e-2;
+  prm["t_end"] = 0.4;
+  return prm;
+}
+
+double metric(const RunResult& r, const std::string& k) {
+  for (const auto& [n, v] : r.metrics)
+    if (n == k)
+      return v;
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+} // namespace
+
+TEST(CylinderChannel, BothAlgorithmsRunAndReportMetrics) {
+  for (std::int64_t alg : {1, 2}) {
+    Params prm = cylinder_params();
+    prm["algorithm"] = alg;
+    const RunResult r = find_case("cylinder_channel")->run(prm, RunContext{});
+    EXPECT_EQ(r.status, RunStatus::Done) << "algorithm " << alg << ": " << r.message;
+    for (const char* k : {"cd_mean", "cl_rms", "St", "st_cycles", "div_mean", "iterations_mean",
+                          "converged_fraction", "wall_s", "iteration_s"})
+      EXPECT_TRUE(std::isfinite(metric(r, k))) << k;
+    EXPECT_GT(metric(r, "cd_mean"), 0.0);
+    EXPECT_LE(metric(r, "iterations_mean"), 5.0);
+    EXPECT_TRUE(std::isnan(metric(r, "t_diverged")));
+  }
+}
+
+TEST(CylinderChannel, TooLargeTimeStepIsRecordedAsDiverged) {
+  Params prm = cylinder_params();
+  prm["dt_star"] = 2.0;
+  prm["t_end"] = 20.0;
+  const RunResult r = find_case("cylinder_channel")->run(prm, RunContext{});
+  EXPECT_EQ(r.status, RunStatus::Diverged);
+  EXPECT_GT(metric(r, "t_diverged"), 0.0);
+  EXPECT_LT(metric(r, "t_diverged"), 20.0);
+}
+
+TEST(MirrorGhosts, CopiesScalarsMirrorsVectorsAndPositions) {
+  MirrorGhosts<2> g;
+  std::vector<Vec<2>> r{Vec<2>(0.3, 0.1), Vec<2>(0.0, 0.0)}, v{Vec<2>(1.0, -0.5), Vec<2>::Zero()};
+  std::vector<double> p{2.5, 0.0};
+  g.add(1, 0, 1, 0.0);
+  g.copy_scalar(p), g.copy_vector(v), g.copy_positions(r);
+  EXPECT_EQ(p[1], 2.5);
+  EXPECT_EQ(v[1], Vec<2>(1.0, 0.5));
+  EXPECT_EQ(r[1], Vec<2>(0.3, -0.1));
+}
