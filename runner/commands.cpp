@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include <variant>
 #include <stdexcept>
 #include <vector>
 
@@ -112,7 +113,7 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
                                  "failed",  "diverged",  "timeout"};
   std::string where = sid ? " WHERE s.id=" + std::to_string(*sid) : "";
   Stmt q = db.prepare("SELECT s.name, sj.tier, j.state, count(*) FROM studies s JOIN study_jobs "
-                      "sj ON sj.study_id=s.id JOIN jobs j ON j.id=sj.job_id" +
+                      "sj ON sj.study_id=s.id AND sj.current JOIN jobs j ON j.id=sj.job_id" +
                       where + " GROUP BY s.name, sj.tier, j.state ORDER BY s.name, sj.tier");
   std::map<std::pair<std::string, std::string>, std::map<std::string, std::int64_t>> table;
   while (q.step())
@@ -164,9 +165,21 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
     out << "  " << r.text(5) << "\n";
   }
 
-  Stmt e = db.prepare("SELECT j.key, a.attempt, a.state, a.finished_at, a.error_text FROM "
+  Stmt sb = db.prepare("SELECT substr(j.slurm_job_id, 1, instr(j.slurm_job_id, '_') - 1), "
+                       "count(*), min(j.updated_at) FROM jobs j WHERE j.state='submitted'" +
+                       job_filter + " GROUP BY 1 ORDER BY 3");
+  header = false;
+  while (sb.step()) {
+    if (!header)
+      out << "\nsubmitted to Slurm (runner ingest records finished ones):\n", header = true;
+    out << "  array " << (sb.text(0).empty() ? std::string("?") : sb.text(0)) << ": "
+        << sb.integer(1) << " job(s), submitted " << format_duration(now - sb.real(2)) << " ago\n";
+  }
+
+  Stmt e = db.prepare("SELECT j.key, a.attempt, a.state, a.finished_at, a.error_text, "
+                      "coalesce(a.failure_class, a.state) FROM "
                       "attempts a JOIN jobs j ON j.id=a.job_id WHERE a.state IN "
-                      "('failed','timeout','abandoned') AND a.error_text IS NOT NULL" +
+                      "('failed','timeout','abandoned','interrupted') AND a.error_text IS NOT NULL" +
                       job_filter + " ORDER BY a.finished_at DESC LIMIT 10");
   header = false;
   while (e.step()) {
@@ -175,7 +188,7 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
     std::string text = e.text(4);
     std::string first = text.substr(0, text.find('\n'));
     out << "  " << e.text(0).substr(0, 12) << " attempt " << e.integer(1) << " " << e.text(2)
-        << " (" << format_duration(now - e.real(3)) << " ago): " << first << "\n";
+        << " [" << e.text(5) << "] (" << format_duration(now - e.real(3)) << " ago): " << first << "\n";
   }
   return 0;
 }
@@ -202,24 +215,99 @@ int cmd_cases(std::ostream& out) {
   return 0;
 }
 
+namespace {
+
+// Parses KEY=VALUE and returns an SQL condition on jobs `j` (with its bindings appended).
+struct Filter {
+  std::string sql;
+  std::vector<std::variant<double, std::string>> binds;
+};
+
+Filter where_filter(Db& db, std::int64_t sid, const std::vector<std::string>& where) {
+  Filter f;
+  for (const auto& w : where) {
+    auto eq = w.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::runtime_error("--where '" + w + "': expected KEY=VALUE, e.g. lattice=uniform");
+    std::string key = w.substr(0, eq), value = w.substr(eq + 1);
+    if (key == "scheme") {
+      f.sql += " AND j.scheme = ?";
+      f.binds.emplace_back(value);
+      continue;
+    }
+    // The key must be a parameter of some job of the study.
+    Stmt k = db.prepare("SELECT 1 FROM job_params WHERE name=? AND job_id IN (SELECT job_id FROM "
+                        "study_jobs WHERE study_id=?) LIMIT 1");
+    k.bind(1, key).bind(2, sid);
+    if (!k.step()) {
+      std::vector<std::string> names;
+      Stmt n = db.prepare("SELECT DISTINCT name FROM job_params WHERE job_id IN (SELECT job_id "
+                          "FROM study_jobs WHERE study_id=?) ORDER BY 1");
+      n.bind(1, sid);
+      while (n.step())
+        names.push_back(n.text(0));
+      throw std::runtime_error("--where '" + w + "': '" + key + "' is not a parameter of this " +
+                               "study's jobs" + did_you_mean(key, names) +
+                               (names.empty() ? "" : "; parameters: " + quoted_list(names)));
+    }
+    f.sql += " AND j.id IN (SELECT job_id FROM job_params WHERE name = ? AND value = ?)";
+    f.binds.emplace_back(key);
+    char* endp = nullptr;
+    double x = std::strtod(value.c_str(), &endp);
+    if (value == "true" || value == "false")
+      f.binds.emplace_back(value == "true" ? 1.0 : 0.0);
+    else if (!value.empty() && endp && *endp == 0)
+      f.binds.emplace_back(x);
+    else
+      f.binds.emplace_back(value);
+  }
+  return f;
+}
+
+int bind_filter(Stmt& s, int first, const Filter& f) {
+  int i = first;
+  for (const auto& b : f.binds) {
+    if (std::holds_alternative<double>(b))
+      s.bind(i++, std::get<double>(b));
+    else
+      s.bind(i++, std::get<std::string>(b));
+  }
+  return i;
+}
+
+std::string markdown_cell(const std::string& s) {
+  std::string out;
+  for (char c : s)
+    out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
+} // namespace
+
 int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::ostream& out) {
   static const std::map<std::string, std::string> aggs = {
       {"mean", "avg"}, {"min", "min"}, {"max", "max"}, {"count", "count"}};
   auto agg = aggs.find(t.agg);
   if (agg == aggs.end())
     throw std::runtime_error("--agg must be mean, min, max or count");
+  if (t.format != "text" && t.format != "csv" && t.format != "markdown")
+    throw std::runtime_error("--format must be text, csv or markdown");
   Store store = Store::open_read(db_path);
   Db& db = store.db();
   std::int64_t sid = study_id(db, t.study);
+  json_path(t.rows);
+  json_path(t.cols);
+  Filter filter = where_filter(db, sid, t.where);
   auto expr = [&](const std::string& p) {
     return p == "scheme" ? std::string("j.scheme")
-                         : "json_extract(j.params_json, '" + json_path(p) + "')";
+                         : "(SELECT value FROM job_params WHERE job_id=j.id AND name='" + p + "')";
   };
   Stmt q = db.prepare("SELECT " + expr(t.rows) + ", " + expr(t.cols) + ", " + agg->second +
                       "(m.value) FROM jobs j JOIN metrics m ON m.job_id=j.id WHERE m.name=? AND "
-                      "j.id IN (SELECT job_id FROM study_jobs WHERE study_id=?) "
-                      "GROUP BY 1, 2 ORDER BY 1, 2");
+                      "j.id IN (SELECT job_id FROM study_jobs WHERE study_id=? AND current)" +
+                      filter.sql + " GROUP BY 1, 2 ORDER BY 1, 2");
   q.bind(1, t.metric).bind(2, sid);
+  bind_filter(q, 3, filter);
   // Keep numeric order for numeric parameter values.
   struct Key {
     bool numeric;
@@ -254,9 +342,15 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
     std::vector<std::string> names;
     while (m.step())
       names.push_back(m.text(0));
+    bool known = std::find(names.begin(), names.end(), t.metric) != names.end();
+    std::string where_text;
+    for (const auto& w : t.where)
+      where_text += (where_text.empty() ? " with " : " and ") + w;
     throw std::runtime_error("no values of metric '" + t.metric + "' in study '" + t.study + "'" +
-                             did_you_mean(t.metric, names) +
-                             (names.empty() ? "" : "; metrics: " + quoted_list(names)));
+                             where_text +
+                             (known ? "" : did_you_mean(t.metric, names) +
+                                               (names.empty() ? "" : "; metrics: " +
+                                                                         quoted_list(names))));
   }
   std::vector<std::vector<std::string>> grid;
   std::vector<std::string> head{t.rows + " \\ " + t.cols};
@@ -279,11 +373,29 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
     }
     return 0;
   }
+  if (t.format == "markdown") {
+    for (std::size_t r = 0; r < grid.size(); ++r) {
+      out << "|";
+      for (const auto& c : grid[r])
+        out << " " << markdown_cell(c) << " |";
+      out << "\n";
+      if (r == 0) {
+        out << "|";
+        for (std::size_t i = 0; i < grid[r].size(); ++i)
+          out << (i ? " ---: |" : " --- |");
+        out << "\n";
+      }
+    }
+    return 0;
+  }
   std::vector<std::size_t> width(head.size(), 0);
   for (const auto& line : grid)
     for (std::size_t i = 0; i < line.size(); ++i)
       width[i] = std::max(width[i], line[i].size());
-  out << t.agg << "(" << t.metric << ") for study " << t.study << "\n";
+  out << t.agg << "(" << t.metric << ") for study " << t.study;
+  for (std::size_t i = 0; i < t.where.size(); ++i)
+    out << (i ? ", " : " where ") << t.where[i];
+  out << "\n";
   for (const auto& line : grid) {
     for (std::size_t i = 0; i < line.size(); ++i) {
       std::string pad(width[i] - line[i].size(), ' ');
@@ -309,7 +421,7 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
   std::vector<Row> rows;
   std::map<std::int64_t, std::size_t> index;
   Stmt q = db.prepare("SELECT j.id, j.key, j.state, j.scheme, j.params_json FROM jobs j JOIN "
-                      "(SELECT job_id, min(ordinal) AS o FROM study_jobs WHERE study_id=? GROUP "
+                      "(SELECT job_id, min(ordinal) AS o FROM study_jobs WHERE study_id=? AND current GROUP "
                       "BY job_id) sj ON sj.job_id=j.id ORDER BY sj.o");
   q.bind(1, sid);
   while (q.step()) {

@@ -6,6 +6,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace sph::runner {
 
@@ -23,7 +24,9 @@ struct TableOptions {
   std::string rows, cols; // parameter names (or "scheme")
   std::string metric;
   std::string agg = "mean";    // mean, min, max, count
-  std::string format = "text"; // text or csv
+  std::string format = "text"; // text, csv or markdown
+  // KEY=VALUE filters on the jobs' parameters (all must hold), e.g. "lattice=uniform".
+  std::vector<std::string> where;
 };
 int cmd_table(const std::filesystem::path& db, const TableOptions& t, std::ostream& out);
 

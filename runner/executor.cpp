@@ -8,6 +8,7 @@
 #include "process.hpp"
 #include "progress.hpp"
 #include "provenance.hpp"
+#include "slurm.hpp"
 #include "store.hpp"
 
 #include <atomic>
@@ -161,11 +162,12 @@ bool is_empty_dir(const fs::path& p) {
   return fs::is_directory(p, ec) && fs::is_empty(p, ec);
 }
 
-// Turns a worker outcome into the record stored for the attempt.
-Finish to_finish(const Outcome& o, const RunOptions& opts, std::string& first_metric) {
+} // namespace
+
+Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, const fs::path& log,
+                         std::optional<double> timeout_s) {
   Finish f;
   f.finished_at = unix_now();
-  const ChildOutcome& c = o.child;
   if (c.pid > 0) {
     f.wall_s = c.wall_s;
     f.cpu_s = c.cpu_s;
@@ -176,7 +178,7 @@ Finish to_finish(const Outcome& o, const RunOptions& opts, std::string& first_me
     else if (c.term_signal)
       f.signal = c.term_signal;
   }
-  std::string tail = file_tail(o.task.log, 4000);
+  std::string tail = file_tail(log, 4000);
   auto with_tail = [&](std::string s) {
     if (!tail.empty())
       s += "\n--- job output (tail) ---\n" + tail;
@@ -185,7 +187,7 @@ Finish to_finish(const Outcome& o, const RunOptions& opts, std::string& first_me
   std::optional<JobFileResult> r;
   std::string bad_result;
   try {
-    r = read_result_file(o.task.result);
+    r = read_result_file(result_file);
   } catch (const std::exception& e) {
     bad_result = e.what();
   }
@@ -201,38 +203,40 @@ Finish to_finish(const Outcome& o, const RunOptions& opts, std::string& first_me
                       (f.message.empty() ? "" : "; " + f.message);
           break;
         }
-    if (!f.metrics.empty())
-      first_metric = f.metrics.front().first + "=" + short_number(f.metrics.front().second);
     return f;
   }
   if (c.timed_out) {
     f.state = "timeout";
-    f.error_text = with_tail("exceeded the wall-clock limit of " + short_number(*opts.timeout_s) +
+    f.failure_class = "timeout";
+    f.error_text = with_tail("exceeded the wall-clock limit of " + short_number(timeout_s.value_or(0)) +
                              " s (--timeout)");
   } else if (r && r->status == "failed") {
     f.state = "failed";
+    f.failure_class = "exception";
     f.message = r->message;
     f.error_text = with_tail("exception: " + r->message);
   } else if (r) { // cancelled without being asked
     f.state = "failed";
+    f.failure_class = "exception";
     f.message = r->message;
     f.error_text = with_tail("the case returned Cancelled without a cancellation request");
   } else if (!c.spawn_error.empty()) {
     f.state = "failed";
+    f.failure_class = "spawn";
     f.error_text = c.spawn_error;
   } else if (!c.exited) {
     f.state = "failed";
+    f.failure_class = "signal";
     f.error_text = with_tail("job process killed by " + signal_description(c.term_signal));
   } else {
     f.state = "failed";
+    f.failure_class = "exit";
     f.error_text = with_tail(
         "job process exited with code " + std::to_string(c.exit_code) +
         (bad_result.empty() ? " without writing a result" : "; unreadable result: " + bad_result));
   }
   return f;
 }
-
-} // namespace
 
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err) {
   Expansion ex = expand(study, opts.tier);
@@ -279,6 +283,13 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     Stmt q = store.db().prepare("PRAGMA quick_check");
     if (q.step() && q.text(0) != "ok")
       err << "warning: database integrity check after an unclean shutdown: " << q.text(0) << "\n";
+  }
+
+  if (store.db().scalar_int("SELECT count(*) FROM jobs WHERE state='submitted'") > 0) {
+    IngestReport ing = ingest_slurm(store, out);
+    if (ing.ingested || ing.lost || ing.waiting)
+      out << "Slurm: ingested " << ing.ingested << " finished job(s), " << ing.lost
+          << " lost (pending again), " << ing.waiting << " still submitted\n";
   }
 
   StudyRecord rec{study.name, study.case_name, study.description,
@@ -374,13 +385,15 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         t.output_dir = db_dir / study.name / job.key;
         JobFileSpec spec{
             job.key,  job.case_name,         job.scheme,         job.params, opts.threads_per_job,
-            *attempt, t.output_dir.string(), t.progress.string()};
+            *attempt, t.output_dir.string(), t.progress.string(),
+            opts.checkpoint_every_steps, opts.checkpoint_every_s};
         try {
           fs::create_directories(t.output_dir);
           write_file_atomic(t.spec, spec_to_json(spec));
         } catch (const std::exception& e) {
           Finish f;
           f.state = "failed";
+          f.failure_class = "spawn";
           f.finished_at = unix_now();
           f.error_text = std::string("cannot prepare the job: ") + e.what();
           store.finish(row.id, *attempt, host, pid, f);
@@ -416,7 +429,9 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           ++interrupted;
         } else {
           std::string first_metric;
-          Finish f = to_finish(o, opts, first_metric);
+          Finish f = outcome_to_finish(o.child, o.task.result, o.task.log, opts.timeout_s);
+          if (!f.metrics.empty())
+            first_metric = f.metrics.front().first + "=" + short_number(f.metrics.front().second);
           bool kept_output = !is_empty_dir(o.task.output_dir);
           if (kept_output)
             f.output_dir = o.task.output_dir.string();
@@ -455,6 +470,13 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         fs::remove(o.task.progress, ec);
       }
       progress.set_running(running.size());
+      if (live) {
+        std::vector<std::pair<std::string, double>> fr;
+        for (const auto& [id, t] : running)
+          if (auto x = read_progress(t.progress))
+            fr.emplace_back(ex.jobs[t.index].key.substr(0, 8), *x);
+        progress.set_fractions(std::move(fr));
+      }
       progress.tick();
 
       auto now = std::chrono::steady_clock::now();

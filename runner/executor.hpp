@@ -27,7 +27,19 @@ struct RunOptions {
   double heartbeat_s = 5;
   double stale_after_s = 30; // a running job whose heartbeat is older is abandoned
   double kill_grace_s = 5;   // SIGTERM -> SIGKILL delay
+  // Checkpoint policy of each job (RunContext); 0: off. Cases that support checkpoints save
+  // in the job's output directory, which is kept across attempts so a re-run resumes.
+  std::int64_t checkpoint_every_steps = 0;
+  double checkpoint_every_s = 600;
 };
+
+struct Finish;
+struct ChildOutcome;
+
+// The record of an attempt from how its job process ended, its result file (may be missing) and
+// its log (tail kept in the error text). Shared by the local pool and Slurm ingestion.
+Finish outcome_to_finish(const ChildOutcome& c, const std::filesystem::path& result_file,
+                         const std::filesystem::path& log, std::optional<double> timeout_s);
 
 // Returns the process exit code: 0 when no job of the study (tier) is failed or timed out,
 // 1 otherwise, 128+signal when interrupted. Study errors are thrown as StudyError before anything

@@ -99,7 +99,9 @@ std::string spec_to_json(const JobFileSpec& s) {
             {"threads", s.threads},
             {"attempt", s.attempt},
             {"output_dir", s.output_dir},
-            {"progress_file", s.progress_file}};
+            {"progress_file", s.progress_file},
+            {"checkpoint_every_steps", s.checkpoint_every_steps},
+            {"checkpoint_every_s", s.checkpoint_every_s}};
   return j.dump(1) + "\n";
 }
 
@@ -114,6 +116,8 @@ JobFileSpec spec_from_json(const std::string& text) {
   s.attempt = j.value("attempt", 1);
   s.output_dir = j.value("output_dir", "");
   s.progress_file = j.value("progress_file", "");
+  s.checkpoint_every_steps = j.value("checkpoint_every_steps", std::int64_t{0});
+  s.checkpoint_every_s = j.value("checkpoint_every_s", 0.0);
   const CaseInfo* info = find_case(s.case_name);
   if (!info)
     throw std::invalid_argument("unknown case '" + s.case_name + "'");

@@ -26,6 +26,9 @@ struct JobFileSpec {
   int attempt = 1;
   std::string output_dir;    // "" for none
   std::string progress_file; // "" for none: the worker writes its progress fraction there
+  // Checkpoint policy handed to the case (RunContext); the checkpoint lives in output_dir.
+  std::int64_t checkpoint_every_steps = 0;
+  double checkpoint_every_s = 0;
 };
 
 // Outcome reported by the worker. status: done, diverged, cancelled or failed (run() threw).

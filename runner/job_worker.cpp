@@ -101,6 +101,10 @@ int run_job_files(const std::filesystem::path& spec_path, const std::filesystem:
     ctx.threads = spec.threads;
     ctx.output_dir = spec.output_dir;
     ctx.cancel = &cancel_requested;
+    ctx.attempt = spec.attempt;
+    ctx.checkpoint_dir = spec.output_dir;
+    ctx.checkpoint_every_steps = spec.checkpoint_every_steps;
+    ctx.checkpoint_every_s = spec.checkpoint_every_s;
     auto last = std::chrono::steady_clock::time_point{};
     if (!spec.progress_file.empty())
       ctx.progress = [&](double fraction) {

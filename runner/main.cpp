@@ -5,6 +5,8 @@
 #include "executor.hpp"
 #include "job_worker.hpp"
 #include "provenance.hpp"
+#include "slurm.hpp"
+#include "report.hpp"
 #include "study.hpp"
 
 #include <CLI/CLI.hpp>
@@ -20,7 +22,9 @@ int main(int argc, char** argv) {
   // A positional study file and subcommands clash in CLI11: treat `runner STUDY.toml ...` as
   // `runner run STUDY.toml ...`.
   static const std::set<std::string> subcommands = {
-      "run", "job", "query", "status", "cases", "table", "export", "-h", "--help", "--version"};
+      "report",
+      "run",    "job",    "query",      "status", "cases", "table",    "export",
+      "submit", "ingest", "slurm-task", "-h",     "--help", "--version"};
   std::vector<std::string> args(argv, argv + argc);
   if (args.size() > 1 && !subcommands.count(args[1]))
     args.insert(args.begin() + 1, "run");
@@ -49,6 +53,16 @@ int main(int argc, char** argv) {
   run->add_option("--max-attempts", ro.max_attempts,
                   "With --retry-failed, leave jobs that failed this many times")
       ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  run->add_option("--checkpoint-every-steps", ro.checkpoint_every_steps,
+                  "Jobs that support checkpoints save one every N steps (0: off)")
+      ->check(CLI::NonNegativeNumber);
+  run->add_option("--checkpoint-every-s", ro.checkpoint_every_s,
+                  "... and every S seconds of wall clock (0: off)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  run->add_option("--heartbeat-s", ro.heartbeat_s, "Heartbeat/progress interval (tests)")
+      ->group("")
       ->check(CLI::PositiveNumber);
   run->add_flag("-n,--dry-run", ro.dry_run, "List the jobs and their state; run and write nothing");
   run->add_flag("--allow-network-fs", ro.allow_network_fs,
@@ -82,7 +96,10 @@ int main(int argc, char** argv) {
   table->add_option("--cols", topt.cols, "Parameter for the columns")->required();
   table->add_option("--value", topt.metric, "Metric")->required();
   table->add_option("--agg", topt.agg, "mean, min, max or count")->capture_default_str();
-  table->add_option("--format", topt.format, "text or csv")->capture_default_str();
+  table->add_option("--format", topt.format, "text, csv or markdown")->capture_default_str();
+  table->add_option("--where", topt.where,
+                    "Only jobs with this parameter value, KEY=VALUE (repeatable), e.g. "
+                    "--where lattice=uniform");
   table->add_option("--db", db_table, "Database file")->capture_default_str();
 
   std::string db_export = default_db, export_study, export_format = "csv";
@@ -90,6 +107,61 @@ int main(int argc, char** argv) {
   exp->add_option("study", export_study)->required();
   exp->add_option("--format", export_format, "csv or json")->capture_default_str();
   exp->add_option("--db", db_export, "Database file")->capture_default_str();
+
+  ReportOptions report_opt;
+  report_opt.db = default_db;
+  std::string report_db = default_db;
+  auto* report = app.add_subcommand("report", "Write a study's figures and tables as an HTML page");
+  report->add_option("study", report_opt.study, "Study file, or the name of a study in the database")
+      ->required();
+  report->add_option("--db", report_db, "Database file")->capture_default_str();
+  report->add_option("--out", report_opt.out_dir, "Output directory (default: <db dir>/report/<study>)");
+  report->add_option("--tier", report_opt.tier, "Only the jobs of this tier");
+  report->add_option("--image-format", report_opt.image_format, "svg or png")->capture_default_str();
+
+  SubmitOptions so;
+  std::string submit_file, db_submit = default_db;
+  double submit_timeout = 0;
+  bool use_slurm = false;
+  auto* submit = app.add_subcommand("submit", "Run a study's pending jobs as a Slurm job array");
+  submit->add_option("study", submit_file, "Study file (TOML)")->required();
+  submit->add_flag("--slurm", use_slurm, "Submit to Slurm (the only back end)")->required();
+  submit->add_option("--db", db_submit, "Database file (on the head node's local disk)")
+      ->capture_default_str();
+  submit->add_option("--tier", so.tier, "Submit a tier of the study");
+  submit->add_option("--array-limit", so.array_limit,
+                     "Array tasks running at once (%K of --array; 0: no limit)")
+      ->check(CLI::NonNegativeNumber);
+  submit->add_option("--jobs-per-task", so.jobs_per_task, "Jobs run by each array task")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  submit->add_option("--threads-per-job", so.threads_per_job, "OpenMP threads of each job")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  submit->add_option("--timeout", submit_timeout, "Wall-clock limit per job in seconds")
+      ->check(CLI::NonNegativeNumber);
+  submit->add_flag("--retry-failed", so.retry_failed, "Resubmit failed/diverged/timed-out jobs");
+  submit->add_option("--max-attempts", so.max_attempts, "With --retry-failed")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  submit->add_option("--partition", so.partition, "Slurm partition");
+  submit->add_option("--sbatch-arg", so.sbatch_args, "Extra #SBATCH line (repeatable)");
+  submit->add_option("--slurm-dir", so.slurm_dir,
+                     "Directory for manifests, specs, results (shared with the nodes; default: "
+                     "<db dir>/slurm)");
+  submit->add_flag("--wait", so.wait, "Wait for the array, ingesting results as they arrive");
+  submit->add_flag("-n,--dry-run", so.dry_run, "Write the manifest and script, do not sbatch");
+
+  std::string db_ingest = default_db;
+  auto* ingest = app.add_subcommand("ingest", "Record finished Slurm jobs' results in the database");
+  ingest->add_option("--db", db_ingest, "Database file")->capture_default_str();
+
+  std::string manifest_file;
+  int task_index = -1;
+  auto* slurm_task = app.add_subcommand("slurm-task", "Run one Slurm array task (internal)");
+  slurm_task->group(""); // hidden
+  slurm_task->add_option("--manifest", manifest_file)->required();
+  slurm_task->add_option("--task", task_index)->required();
 
   std::vector<const char*> cargs;
   for (const auto& a : args)
@@ -110,6 +182,17 @@ int main(int argc, char** argv) {
       Study study = load_study(study_file);
       return run_study(study, ro, std::cout, std::cerr);
     }
+    if (*slurm_task)
+      return run_slurm_task(manifest_file, task_index);
+    if (*submit) {
+      so.db_path = db_submit;
+      if (submit_timeout > 0)
+        so.timeout_s = submit_timeout;
+      Study study = load_study(submit_file);
+      return cmd_submit(study, so, std::cout, std::cerr);
+    }
+    if (*ingest)
+      return cmd_ingest(db_ingest, std::cout);
     if (*query)
       return cmd_query(db_query, sql, std::cout);
     if (*status)
@@ -118,6 +201,10 @@ int main(int argc, char** argv) {
       return cmd_cases(std::cout);
     if (*table)
       return cmd_table(db_table, topt, std::cout);
+    if (*report) {
+      report_opt.db = report_db;
+      return cmd_report(report_opt, std::cout);
+    }
     if (*exp)
       return cmd_export(db_export, export_study, export_format, std::cout);
   } catch (const StudyError& e) {

@@ -72,8 +72,18 @@ void Progress::draw() {
     eta =
         format_duration(elapsed / static_cast<double>(done_) * static_cast<double>(total_ - done_));
   out_ << "\r\033[K" << counter() << " running " << running_ << ", failed " << failed_
-       << ", diverged " << diverged_ << ", elapsed " << format_duration(elapsed) << ", ETA " << eta
-       << std::flush;
+       << ", diverged " << diverged_ << ", elapsed " << format_duration(elapsed) << ", ETA " << eta;
+  std::size_t shown = 0;
+  for (const auto& [label, f] : fractions_) {
+    if (shown++ == 4) {
+      out_ << " ...";
+      break;
+    }
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s %.0f%%", label.c_str(), 100 * f);
+    out_ << (shown == 1 ? " | " : ", ") << buf;
+  }
+  out_ << std::flush;
   drawn_ = true;
 }
 

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace sph::runner {
 
@@ -16,6 +18,8 @@ public:
   // timing and first metric or the error.
   void finished(const std::string& state, const std::string& label, const std::string& detail);
   void set_running(std::size_t n);
+  // Simulated-time fraction (0..1) of each running job, by short label; shown on the live line.
+  void set_fractions(std::vector<std::pair<std::string, double>> f) { fractions_ = std::move(f); }
   // Redraws the live line (rate-limited); no-op in log mode.
   void tick();
   // Clears the live line before the summary.
@@ -30,6 +34,7 @@ private:
   std::size_t done_ = 0, failed_ = 0, diverged_ = 0, running_ = 0;
   std::chrono::steady_clock::time_point start_, last_draw_;
   bool drawn_ = false;
+  std::vector<std::pair<std::string, double>> fractions_;
   void draw();
   std::string counter() const;
 };

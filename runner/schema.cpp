@@ -98,10 +98,54 @@ CREATE VIEW job_metrics AS
   JOIN metrics m ON m.job_id = j.id;
 )SQL";
 
+// Version 2:
+// - attempts.failure_class: why an attempt did not finish (exit, signal, timeout, exception,
+//   stale, interrupted, spawn, ingest); NULL for done and diverged attempts.
+// - attempts.slurm_job_id: the Slurm job (array task) that ran the attempt.
+// - study_jobs.current: 1 for jobs in the study's latest expansion; 0 for jobs an earlier version
+//   of the study file had (kept, so their results stay queryable by study name).
+// - job_params(job_id, name, value): the identity parameters of each job, one row each, indexed
+//   by (name, value) so that filters on parameters are index look-ups, not JSON scans.
+const char* schema_v2 = R"SQL(
+ALTER TABLE attempts ADD COLUMN failure_class TEXT;
+ALTER TABLE attempts ADD COLUMN slurm_job_id TEXT;
+ALTER TABLE study_jobs ADD COLUMN current INTEGER NOT NULL DEFAULT 1;
+UPDATE attempts SET failure_class = CASE
+    WHEN state = 'timeout' THEN 'timeout'
+    WHEN state = 'abandoned' THEN 'stale'
+    WHEN state = 'interrupted' THEN 'interrupted'
+    WHEN state = 'failed' AND signal IS NOT NULL THEN 'signal'
+    WHEN state = 'failed' AND error_text LIKE 'exception:%' THEN 'exception'
+    WHEN state = 'failed' THEN 'exit'
+  END;
+
+CREATE TABLE job_params (
+  job_id INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  name   TEXT NOT NULL,
+  value,
+  PRIMARY KEY (job_id, name)
+) WITHOUT ROWID;
+CREATE INDEX job_params_lookup ON job_params(name, value, job_id);
+INSERT INTO job_params(job_id, name, value)
+  SELECT j.id, p.key, p.value FROM jobs j, json_each(j.params_json) p;
+
+CREATE TABLE slurm_submissions (
+  id           INTEGER PRIMARY KEY,
+  study_id     INTEGER NOT NULL REFERENCES studies(id) ON DELETE CASCADE,
+  tier         TEXT NOT NULL,
+  slurm_job_id TEXT,
+  manifest     TEXT NOT NULL,
+  dir          TEXT NOT NULL,
+  n_jobs       INTEGER NOT NULL,
+  n_tasks      INTEGER NOT NULL,
+  submitted_at REAL NOT NULL
+);
+)SQL";
+
 } // namespace
 
 const std::vector<const char*>& migrations() {
-  static const std::vector<const char*> m{schema_v1};
+  static const std::vector<const char*> m{schema_v1, schema_v2};
   return m;
 }
 

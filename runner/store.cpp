@@ -74,8 +74,19 @@ Store Store::open_write(const fs::path& path, bool allow_network_fs) {
         "); SQLite locking and WAL are not safe there. Put the database on a local disk (--db), "
         "or pass --allow-network-fs to use it anyway with a rollback journal and a single runner");
   Db db(path.string(), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
-  configure(db);
-  check_version(db, path);
+  try {
+    configure(db);
+    check_version(db, path);
+  } catch (const SqliteError& e) {
+    throw std::runtime_error("database '" + path.string() + "': " + e.what() +
+                             " (not touched; restore it from a backup or use another --db)");
+  }
+  // Refuse someone else's database before anything (even the journal mode) changes its bytes.
+  if (user_version(db) == 0 &&
+      db.scalar_int("SELECT count(*) FROM sqlite_master WHERE type='table'") > 0)
+    throw std::runtime_error("'" + path.string() +
+                             "' is an SQLite database but not a runner database; refusing to "
+                             "modify it");
   if (network)
     db.exec("PRAGMA journal_mode=DELETE");
   else {
@@ -94,9 +105,13 @@ Store Store::open_read(const fs::path& path) {
     throw std::runtime_error("no database at '" + path.string() +
                              "' (run a study first, or pass --db)");
   Db db(path.string(), SQLITE_OPEN_READONLY);
-  configure(db);
-  db.exec("PRAGMA query_only=ON");
-  check_version(db, path);
+  try {
+    configure(db);
+    db.exec("PRAGMA query_only=ON");
+    check_version(db, path);
+  } catch (const SqliteError& e) {
+    throw std::runtime_error("database '" + path.string() + "': " + e.what());
+  }
   if (user_version(db) == 0)
     throw std::runtime_error("'" + path.string() + "' is not a runner database (no schema)");
   return Store(std::move(db), path);
@@ -144,19 +159,23 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
   }
   std::unordered_set<std::int64_t> before;
   {
-    Stmt q = db_.prepare("SELECT job_id FROM study_jobs WHERE study_id=? AND tier=?");
+    Stmt q = db_.prepare("SELECT job_id FROM study_jobs WHERE study_id=? AND tier=? AND current");
     q.bind(1, r.study_id).bind(2, tier);
     while (q.step())
       before.insert(q.integer(0));
-    Stmt d = db_.prepare("DELETE FROM study_jobs WHERE study_id=? AND tier=?");
+    // Jobs of an earlier version of the study stay members (current=0): still queryable.
+    Stmt d = db_.prepare("UPDATE study_jobs SET current=0 WHERE study_id=? AND tier=?");
     d.bind(1, r.study_id).bind(2, tier).run();
   }
   Stmt ins = db_.prepare(
       "INSERT INTO jobs(key, case_name, scheme, numerics_version, params_json, state, attempts, "
       "created_at, updated_at) VALUES(?,?,?,?,?,'pending',0,?,?) ON CONFLICT(key) DO NOTHING");
   Stmt find = db_.prepare("SELECT id FROM jobs WHERE key=?");
-  Stmt member =
-      db_.prepare("INSERT INTO study_jobs(study_id, job_id, tier, ordinal) VALUES(?,?,?,?)");
+  Stmt member = db_.prepare(
+      "INSERT INTO study_jobs(study_id, job_id, tier, ordinal, current) VALUES(?,?,?,?,1) "
+      "ON CONFLICT(study_id, job_id, tier) DO UPDATE SET ordinal=excluded.ordinal, current=1");
+  Stmt params = db_.prepare("INSERT OR IGNORE INTO job_params(job_id, name, value) SELECT ?1, "
+                            "p.key, p.value FROM json_each(?2) p");
   std::size_t kept = 0;
   for (std::size_t i = 0; i < jobs.size(); ++i) {
     const JobSpec& j = jobs[i];
@@ -166,6 +185,7 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
     if (db_.changes() == 1) {
       id = sqlite3_last_insert_rowid(db_.handle());
       ++r.inserted;
+      params.bind(1, id).bind(2, j.params_json).run();
     } else {
       find.bind(1, j.key);
       find.step();
@@ -183,7 +203,8 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
   std::string failed_attempts = std::string("(SELECT count(*) FROM attempts a WHERE a.job_id = "
                                             "jobs.id AND a.state IN ") +
                                 failing + ")";
-  std::string in_study = "id IN (SELECT job_id FROM study_jobs WHERE study_id=?1 AND tier=?2)";
+  std::string in_study =
+      "id IN (SELECT job_id FROM study_jobs WHERE study_id=?1 AND tier=?2 AND current)";
   if (retry_failed) {
     Stmt u = db_.prepare("UPDATE jobs SET state='pending', updated_at=?3 WHERE state IN " +
                          std::string(failing) + " AND " + in_study + " AND " + failed_attempts +
@@ -198,8 +219,8 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
   }
   {
     Stmt q = db_.prepare("SELECT j.id, sj.ordinal, j.state, j.attempts FROM study_jobs sj JOIN "
-                         "jobs j ON j.id = sj.job_id WHERE sj.study_id=? AND sj.tier=? ORDER BY "
-                         "sj.ordinal");
+                         "jobs j ON j.id = sj.job_id WHERE sj.study_id=? AND sj.tier=? AND sj.current "
+                         "ORDER BY sj.ordinal");
     q.bind(1, r.study_id).bind(2, tier);
     while (q.step())
       r.jobs.push_back({q.integer(0), static_cast<std::size_t>(q.integer(1)), q.text(2),
@@ -240,7 +261,8 @@ std::vector<StaleJob> Store::reset_stale(const std::string& host, int self_pid, 
   }
   Stmt uj = db_.prepare("UPDATE jobs SET state='pending', owner_host=NULL, owner_pid=NULL, "
                         "heartbeat_at=NULL, updated_at=? WHERE id=? AND state='running'");
-  Stmt ua = db_.prepare("UPDATE attempts SET state='abandoned', finished_at=?, error_text=? "
+  Stmt ua = db_.prepare("UPDATE attempts SET state='abandoned', failure_class='stale', finished_at=?, "
+                        "error_text=? "
                         "WHERE job_id=? AND state='running'");
   for (const auto& s : stale) {
     uj.bind(1, now).bind(2, s.id).run();
@@ -281,9 +303,33 @@ bool Store::finish(std::int64_t job_id, int attempt, const std::string& host, in
   u.bind(5, host).bind(6, pid).bind(7, attempt).run();
   if (db_.changes() != 1)
     return false; // no longer ours: the transaction rolls back
+  record_attempt(job_id, attempt, f);
+  tx.commit();
+  return true;
+}
+
+bool Store::finish_submitted(std::int64_t job_id, int attempt, const std::string& host,
+                             const std::string& slurm_job_id, const Finish& f) {
+  WriteTx tx(db_);
+  Stmt u = db_.prepare(
+      "UPDATE jobs SET state=?1, owner_host=NULL, owner_pid=NULL, heartbeat_at=NULL, "
+      "updated_at=?2, progress=CASE WHEN ?1='done' THEN 1.0 ELSE progress END, "
+      "output_dir=COALESCE(?3, output_dir) WHERE id=?4 AND state='submitted' AND attempts=?5");
+  u.bind(1, f.state).bind(2, f.finished_at).bind(3, f.output_dir).bind(4, job_id);
+  u.bind(5, attempt).run();
+  if (db_.changes() != 1)
+    return false;
+  record_attempt(job_id, attempt, f);
+  Stmt a = db_.prepare("UPDATE attempts SET host=?, slurm_job_id=? WHERE job_id=? AND attempt=?");
+  a.bind(1, host).bind(2, slurm_job_id).bind(3, job_id).bind(4, attempt).run();
+  tx.commit();
+  return true;
+}
+
+void Store::record_attempt(std::int64_t job_id, int attempt, const Finish& f) {
   Stmt a = db_.prepare("UPDATE attempts SET state=?, finished_at=?, wall_s=?, cpu_s=?, "
                        "peak_rss_kb=?, child_pid=?, exit_code=?, signal=?, message=?, "
-                       "error_text=? WHERE job_id=? AND attempt=?");
+                       "error_text=?, failure_class=? WHERE job_id=? AND attempt=?");
   a.bind(1, f.state).bind(2, f.finished_at).bind(3, f.wall_s).bind(4, f.cpu_s);
   a.bind(5, f.peak_rss_kb).bind(6, f.child_pid).bind(7, f.exit_code).bind(8, f.signal);
   if (f.message.empty())
@@ -294,7 +340,11 @@ bool Store::finish(std::int64_t job_id, int attempt, const std::string& host, in
     a.bind_null(10);
   else
     a.bind(10, f.error_text);
-  a.bind(11, job_id).bind(12, attempt).run();
+  if (f.failure_class.empty())
+    a.bind_null(11);
+  else
+    a.bind(11, f.failure_class);
+  a.bind(12, job_id).bind(13, attempt).run();
   Stmt d = db_.prepare("DELETE FROM metrics WHERE job_id=?");
   d.bind(1, job_id).run();
   Stmt m = db_.prepare("INSERT OR REPLACE INTO metrics(job_id, name, value, attempt, ordinal) "
@@ -304,8 +354,6 @@ bool Store::finish(std::int64_t job_id, int attempt, const std::string& host, in
     m.bind(1, job_id).bind(2, f.metrics[k].first).bind(3, f.metrics[k].second);
     m.bind(4, attempt).bind(5, static_cast<std::int64_t>(k)).run();
   }
-  tx.commit();
-  return true;
 }
 
 void Store::release(std::int64_t job_id, int attempt, const std::string& host, int pid,
@@ -317,7 +365,8 @@ void Store::release(std::int64_t job_id, int attempt, const std::string& host, i
   u.bind(1, now).bind(2, job_id).bind(3, host).bind(4, pid).bind(5, attempt).run();
   if (db_.changes() != 1)
     return;
-  Stmt a = db_.prepare("UPDATE attempts SET state='interrupted', finished_at=?, error_text=? "
+  Stmt a = db_.prepare("UPDATE attempts SET state='interrupted', failure_class='interrupted', "
+                       "finished_at=?, error_text=? "
                        "WHERE job_id=? AND attempt=?");
   a.bind(1, now).bind(2, reason).bind(3, job_id).bind(4, attempt).run();
   tx.commit();
@@ -340,7 +389,7 @@ std::map<std::string, std::size_t> Store::state_counts(std::int64_t study_id,
                                                        const std::string& tier) {
   std::map<std::string, std::size_t> out;
   Stmt q = db_.prepare("SELECT j.state, count(*) FROM study_jobs sj JOIN jobs j ON j.id = "
-                       "sj.job_id WHERE sj.study_id=? AND sj.tier=? GROUP BY j.state");
+                       "sj.job_id WHERE sj.study_id=? AND sj.tier=? AND sj.current GROUP BY j.state");
   q.bind(1, study_id).bind(2, tier);
   while (q.step())
     out[q.text(0)] = static_cast<std::size_t>(q.integer(1));

@@ -61,6 +61,9 @@ struct Finish {
   std::optional<std::int64_t> peak_rss_kb, child_pid, exit_code, signal;
   std::string message;    // from the case
   std::string error_text; // why it failed (with the job's stderr tail)
+  // Why the attempt did not finish: exit (non-zero exit or no result), signal, timeout,
+  // exception (run() threw), spawn (could not start); "" for done and diverged.
+  std::string failure_class;
   std::vector<std::pair<std::string, double>> metrics;
   std::optional<std::string> output_dir;
 };
@@ -72,7 +75,7 @@ struct StaleJob {
 
 class Store {
 public:
-  static constexpr int schema_version = 1;
+  static constexpr int schema_version = 2;
 
   // Creates the file (and its directory) if needed, migrates the schema, sets WAL.
   // Refuses a database on a network file system unless allow_network_fs (then no WAL).
@@ -105,6 +108,12 @@ public:
   // false when the job is no longer ours (reset as stale by another runner): nothing written.
   bool finish(std::int64_t job_id, int attempt, const std::string& host, int pid, const Finish& f);
 
+  // Records the outcome of a job handed to Slurm (state `submitted`, attempt `attempt`); the
+  // attempt row gets the host that ran it and its Slurm job id. false when the job is no longer
+  // submitted under that attempt (already ingested, or reset): nothing written.
+  bool finish_submitted(std::int64_t job_id, int attempt, const std::string& host,
+                        const std::string& slurm_job_id, const Finish& f);
+
   // Gives a job back (runner interrupted): state pending, attempt row `interrupted`.
   void release(std::int64_t job_id, int attempt, const std::string& host, int pid,
                const std::string& reason, double now);
@@ -122,6 +131,7 @@ public:
 private:
   Store(Db db, std::filesystem::path path) : db_(std::move(db)), path_(std::move(path)) {}
   void migrate();
+  void record_attempt(std::int64_t job_id, int attempt, const Finish& f); // inside a transaction
   Db db_;
   std::filesystem::path path_;
 };

@@ -5,6 +5,7 @@
 #include "diagnostics.hpp"
 #include "job_key.hpp"
 #include "params.hpp"
+#include "report_figures_toml.hpp"
 
 #include <toml++/toml.h>
 
@@ -89,6 +90,7 @@ public:
     study_.definition_sha256 = sha256_hex(text);
 
     static const std::vector<std::string> top = {"study", "params",  "sweep", "zip",
+                                                 "figures",
                                                  "cases", "derived", "tiers"};
     for (auto&& [k, v] : root) {
       std::string key(k.str());
@@ -123,6 +125,8 @@ public:
       parse_derived(*n);
     if (auto n = root.get("tiers"))
       parse_tiers(*n);
+    if (auto n = root.get("figures")) // [[figures]]: what `runner report` draws (docs/report.md)
+      parse_figures_node(*n, study_.specs, study_.file, diag_);
     check_conflicts();
     diag_.throw_if_any();
     return std::move(study_);

@@ -1,0 +1,532 @@
+// Slurm job arrays: submit (manifest + one sbatch), the array task body, and ingestion of the
+// tasks' outcome files into the store on the head node.
+#include "slurm.hpp"
+
+#include "executor.hpp"
+#include "expand.hpp"
+#include "job_file.hpp"
+#include "process.hpp"
+#include "provenance.hpp"
+#include "store.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace sph::runner {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+inline constexpr const char* manifest_format = "sph-slurm-manifest/1";
+inline constexpr const char* outcome_format = "sph-task-outcome/1";
+
+std::atomic<int> g_task_stop{0};
+extern "C" void on_task_term(int) {
+  g_task_stop.store(1);
+}
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in)
+    throw std::runtime_error("cannot read '" + p.string() + "'");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s)
+    q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+struct Cmd {
+  int code = -1;
+  std::string out;
+};
+
+// Runs a shell command, capturing stdout and stderr.
+Cmd shell(const std::string& cmd) {
+  Cmd r;
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p)
+    return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0)
+    r.out.append(buf, n);
+  int st = pclose(p);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::string trim(std::string s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back())))
+    s.pop_back();
+  return s;
+}
+
+// Slurm's time limit in minutes for a task of n jobs: each job's limit plus a margin.
+int time_limit_minutes(std::optional<double> timeout_s, int n) {
+  if (!timeout_s)
+    return 0;
+  double s = (*timeout_s + 10) * n + 60;
+  return static_cast<int>(s / 60) + 1;
+}
+
+} // namespace
+
+int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
+               std::ostream& err) {
+  if (opts.jobs_per_task < 1)
+    throw std::runtime_error("--jobs-per-task must be at least 1");
+  Expansion ex = expand(study, opts.tier);
+  const std::string tier = ex.tier;
+  Store store = Store::open_write(opts.db_path);
+  const std::string host = host_name();
+  const int pid = static_cast<int>(getpid());
+  store.reset_stale(host, pid, unix_now(), 30, pid_alive);
+  IngestReport ing = ingest_slurm(store, out);
+  if (ing.ingested || ing.lost)
+    out << "ingested " << ing.ingested << " finished Slurm job(s)"
+        << (ing.lost ? ", " + std::to_string(ing.lost) + " lost (pending again)" : "") << "\n";
+
+  StudyRecord rec{study.name, study.case_name, study.description,
+                  fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
+  SyncReport sync =
+      store.sync_study(rec, tier, ex.jobs, opts.retry_failed, opts.max_attempts, unix_now());
+  std::vector<const JobRow*> todo;
+  std::size_t submitted_already = 0, done = 0;
+  for (const auto& row : sync.jobs) {
+    if (row.state == "pending")
+      todo.push_back(&row);
+    else if (row.state == "submitted")
+      ++submitted_already;
+    else if (row.state == "done")
+      ++done;
+  }
+  const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
+  out << title << ": " << ex.jobs.size() << " jobs: " << done << " done, " << submitted_already
+      << " already submitted, " << todo.size() << " to submit\n";
+  if (todo.empty())
+    return 0;
+
+  const fs::path db_dir = fs::absolute(
+      opts.db_path.parent_path().empty() ? fs::path(".") : opts.db_path.parent_path());
+  fs::path base = opts.slurm_dir.empty() ? db_dir / "slurm" : fs::absolute(opts.slurm_dir);
+  fs::path exe = fs::canonical(opts.self_exe);
+
+  // Record the submission first: its id names the directory.
+  std::int64_t sub_id;
+  const std::size_t n_tasks =
+      (todo.size() + static_cast<std::size_t>(opts.jobs_per_task) - 1) /
+      static_cast<std::size_t>(opts.jobs_per_task);
+  fs::path dir;
+  {
+    WriteTx tx(store.db());
+    Stmt i = store.db().prepare("INSERT INTO slurm_submissions(study_id, tier, manifest, dir, "
+                                "n_jobs, n_tasks, submitted_at) VALUES(?,?,'','',?,?,?)");
+    i.bind(1, sync.study_id).bind(2, tier).bind(3, static_cast<std::int64_t>(todo.size()));
+    i.bind(4, static_cast<std::int64_t>(n_tasks)).bind(5, unix_now()).run();
+    sub_id = sqlite3_last_insert_rowid(store.db().handle());
+    dir = base / (study.name + "-" + std::to_string(sub_id));
+    Stmt u = store.db().prepare("UPDATE slurm_submissions SET manifest=?, dir=? WHERE id=?");
+    u.bind(1, (dir / "manifest.json").string()).bind(2, dir.string()).bind(3, sub_id).run();
+    tx.commit();
+  }
+  fs::create_directories(dir / "specs");
+  fs::create_directories(dir / "results");
+  fs::create_directories(dir / "logs");
+
+  // Mark the jobs submitted (attempt +1, attempt row `running` on host "slurm") and write specs.
+  json tasks = json::array();
+  std::vector<std::pair<std::int64_t, int>> marked; // job id, attempt
+  {
+    WriteTx tx(store.db());
+    Stmt u = store.db().prepare(
+        "UPDATE jobs SET state='submitted', attempts=attempts+1, owner_host=?, owner_pid=NULL, "
+        "heartbeat_at=?, updated_at=?, progress=NULL, slurm_job_id=NULL WHERE id=? AND "
+        "state='pending' RETURNING attempts");
+    Stmt a = store.db().prepare(
+        "INSERT INTO attempts(job_id, attempt, state, started_at, host, pid, threads, "
+        "code_version, compiler) VALUES(?,?,'running',?,'slurm',?,?,?,?)");
+    json task = json::array();
+    double now = unix_now();
+    for (const JobRow* row : todo) {
+      u.bind(1, host).bind(2, now).bind(3, now).bind(4, row->id);
+      if (!u.step()) {
+        u.reset();
+        continue;
+      }
+      int attempt = static_cast<int>(u.integer(0));
+      u.reset();
+      a.bind(1, row->id).bind(2, attempt).bind(3, now).bind(4, pid).bind(5, opts.threads_per_job);
+      a.bind(6, code_version()).bind(7, compiler_id()).run();
+      const JobSpec& job = ex.jobs[row->ordinal];
+      std::string stem = job.key + "." + std::to_string(attempt);
+      fs::path output_dir = db_dir / study.name / job.key;
+      fs::create_directories(output_dir);
+      JobFileSpec spec{job.key, job.case_name,         job.scheme, job.params, opts.threads_per_job,
+                       attempt, output_dir.string(), "", 0, 600};
+      write_file_atomic(dir / "specs" / (stem + ".spec.json"), spec_to_json(spec));
+      task.push_back({{"key", job.key}, {"attempt", attempt}, {"stem", stem}});
+      marked.emplace_back(row->id, attempt);
+      if (task.size() == static_cast<std::size_t>(opts.jobs_per_task)) {
+        tasks.push_back(task);
+        task = json::array();
+      }
+    }
+    if (!task.empty())
+      tasks.push_back(task);
+    json manifest = {{"format", manifest_format},
+                     {"study", study.name},
+                     {"tier", tier},
+                     {"submission", sub_id},
+                     {"dir", dir.string()},
+                     {"runner", exe.string()},
+                     {"threads", opts.threads_per_job},
+                     {"timeout_s", opts.timeout_s ? json(*opts.timeout_s) : json()},
+                     {"tasks", tasks}};
+    write_file_atomic(dir / "manifest.json", manifest.dump(1) + "\n");
+    Stmt n = store.db().prepare("UPDATE slurm_submissions SET n_jobs=?, n_tasks=? WHERE id=?");
+    n.bind(1, static_cast<std::int64_t>(marked.size()));
+    n.bind(2, static_cast<std::int64_t>(tasks.size())).bind(3, sub_id).run();
+    tx.commit();
+  }
+  if (marked.empty()) {
+    out << "nothing to submit (another runner took the jobs)\n";
+    return 0;
+  }
+
+  // The batch script: one array task per group of jobs.
+  std::ostringstream script;
+  script << "#!/bin/sh\n"
+         << "#SBATCH --job-name=sph-" << study.name << "\n"
+         << "#SBATCH --array=0-" << tasks.size() - 1;
+  if (opts.array_limit > 0)
+    script << "%" << opts.array_limit;
+  script << "\n#SBATCH --output=" << (dir / "logs" / "task-%A_%a.out").string() << "\n"
+         << "#SBATCH --cpus-per-task=" << opts.threads_per_job << "\n";
+  if (int minutes = time_limit_minutes(opts.timeout_s, opts.jobs_per_task))
+    script << "#SBATCH --time=" << minutes << "\n";
+  if (!opts.partition.empty())
+    script << "#SBATCH --partition=" << opts.partition << "\n";
+  for (const auto& a : opts.sbatch_args)
+    script << "#SBATCH " << a << "\n";
+  script << "exec " << shell_quote(exe.string()) << " slurm-task --manifest "
+         << shell_quote((dir / "manifest.json").string()) << " --task \"$SLURM_ARRAY_TASK_ID\"\n";
+  write_file_atomic(dir / "job.sbatch", script.str());
+
+  auto give_back = [&](const std::string& reason) {
+    WriteTx tx(store.db());
+    Stmt u = store.db().prepare("UPDATE jobs SET state='pending', owner_host=NULL, "
+                                "heartbeat_at=NULL, updated_at=? WHERE id=? AND "
+                                "state='submitted' AND attempts=?");
+    Stmt a = store.db().prepare("UPDATE attempts SET state='interrupted', failure_class='submit', "
+                                "finished_at=?, error_text=? WHERE job_id=? AND attempt=?");
+    double now = unix_now();
+    for (const auto& [id, attempt] : marked) {
+      u.bind(1, now).bind(2, id).bind(3, attempt).run();
+      a.bind(1, now).bind(2, reason).bind(3, id).bind(4, attempt).run();
+    }
+    tx.commit();
+  };
+
+  if (opts.dry_run) {
+    give_back("dry run: not submitted");
+    out << "wrote " << (dir / "job.sbatch").string() << " (" << marked.size() << " jobs in "
+        << tasks.size() << " array tasks); not submitted (--dry-run)\n";
+    return 0;
+  }
+  // sbatch, retried a few times: controllers under load answer with transient errors.
+  Cmd sb;
+  for (int i = 0; i < 4; ++i) {
+    sb = shell("sbatch --parsable " + shell_quote((dir / "job.sbatch").string()));
+    if (sb.code == 0)
+      break;
+    std::this_thread::sleep_for(std::chrono::seconds(1 << i));
+  }
+  std::string array_id = trim(sb.out);
+  if (auto semi = array_id.find(';'); semi != std::string::npos)
+    array_id = array_id.substr(0, semi);
+  if (sb.code != 0 || array_id.empty() ||
+      array_id.find_first_not_of("0123456789") != std::string::npos) {
+    give_back("sbatch failed: " + trim(sb.out));
+    err << "runner submit: sbatch failed (exit " << sb.code << "): " << trim(sb.out) << "\n";
+    return 1;
+  }
+  {
+    WriteTx tx(store.db());
+    Stmt s = store.db().prepare("UPDATE slurm_submissions SET slurm_job_id=? WHERE id=?");
+    s.bind(1, array_id).bind(2, sub_id).run();
+    Stmt u = store.db().prepare("UPDATE jobs SET slurm_job_id=? WHERE id=? AND attempts=?");
+    Stmt a = store.db().prepare(
+        "UPDATE attempts SET slurm_job_id=? WHERE job_id=? AND attempt=?");
+    std::size_t k = 0;
+    for (std::size_t t = 0; t < tasks.size(); ++t)
+      for (std::size_t j = 0; j < tasks[t].size(); ++j, ++k) {
+        std::string sid = array_id + "_" + std::to_string(t);
+        u.bind(1, sid).bind(2, marked[k].first).bind(3, marked[k].second).run();
+        a.bind(1, sid).bind(2, marked[k].first).bind(3, marked[k].second).run();
+      }
+    tx.commit();
+  }
+  out << "submitted " << marked.size() << " jobs as Slurm array " << array_id << " ("
+      << tasks.size() << " tasks" << (opts.array_limit > 0 ? ", at most " + std::to_string(opts.array_limit) + " at once" : "")
+      << "); files in " << dir.string() << "\n";
+  if (!opts.wait)
+    return 0;
+  for (;;) {
+    std::this_thread::sleep_for(std::chrono::duration<double>(opts.poll_s));
+    IngestReport r = ingest_slurm(store, out);
+    std::int64_t left;
+    {
+      Stmt q = store.db().prepare(
+          "SELECT count(*) FROM jobs WHERE state='submitted' AND slurm_job_id LIKE ? || '\\_%' "
+          "ESCAPE '\\'");
+      q.bind(1, array_id);
+      q.step();
+      left = q.integer(0);
+    }
+    if (r.ingested || r.lost)
+      out << "ingested " << r.ingested << (r.lost ? ", lost " + std::to_string(r.lost) : "")
+          << "; " << left << " still submitted\n"
+          << std::flush;
+    if (left == 0)
+      break;
+  }
+  auto counts = store.state_counts(sync.study_id, tier);
+  out << title << ":";
+  for (const auto& [s, c] : counts)
+    out << " " << c << " " << s;
+  out << "\n";
+  return counts.count("failed") || counts.count("timeout") ? 1 : 0;
+}
+
+int run_slurm_task(const fs::path& manifest_path, int task) {
+  json m = json::parse(read_all(manifest_path));
+  if (m.value("format", "") != manifest_format)
+    throw std::runtime_error("'" + manifest_path.string() + "' is not a runner manifest");
+  const auto& tasks = m.at("tasks");
+  if (task < 0 || static_cast<std::size_t>(task) >= tasks.size())
+    throw std::runtime_error("task " + std::to_string(task) + " out of range (manifest has " +
+                             std::to_string(tasks.size()) + " tasks)");
+  fs::path dir = m.at("dir").get<std::string>();
+  std::optional<double> timeout;
+  if (!m.at("timeout_s").is_null())
+    timeout = m.at("timeout_s").get<double>();
+  struct sigaction sa {};
+  sa.sa_handler = on_task_term;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGINT, &sa, nullptr);
+  std::string slurm_id;
+  if (const char* a = std::getenv("SLURM_ARRAY_JOB_ID"))
+    slurm_id = std::string(a) + "_" + std::to_string(task);
+  else if (const char* j = std::getenv("SLURM_JOB_ID"))
+    slurm_id = j;
+  const std::string host = host_name();
+  int rc = 0;
+  for (const auto& job : tasks[static_cast<std::size_t>(task)]) {
+    if (g_task_stop.load())
+      return 128 + SIGTERM; // the remaining jobs stay submitted; ingest finds them lost
+    std::string stem = job.at("stem").get<std::string>();
+    fs::path spec = dir / "specs" / (stem + ".spec.json");
+    fs::path result = dir / "results" / (stem + ".result.json");
+    fs::path outcome = dir / "results" / (stem + ".outcome.json");
+    fs::path log = dir / "logs" / (stem + ".log");
+    if (fs::exists(outcome))
+      continue; // done by an earlier run of this task (requeue)
+    ChildRequest req;
+    req.exe = m.at("runner").get<std::string>();
+    req.args = {"job", "--spec", spec.string(), "--out", result.string(), "--die-with-parent"};
+    req.env = {{"OMP_NUM_THREADS", std::to_string(m.value("threads", 1))}};
+    req.log_path = log;
+    ChildOutcome c = run_child(req, timeout, g_task_stop, 5);
+    // scancel signals every process of the task, the job too: a job stopped that way is not an
+    // outcome (it stays submitted, and ingestion puts it back to pending once the array is gone).
+    bool cancelled = false;
+    try {
+      auto r = read_result_file(result);
+      cancelled = r && r->status == "cancelled" && !c.timed_out;
+    } catch (...) {
+    }
+    if (c.stopped || g_task_stop.load() || cancelled)
+      return 128 + SIGTERM;
+    json o = {{"format", outcome_format},
+              {"key", job.at("key")},
+              {"attempt", job.at("attempt")},
+              {"host", host},
+              {"slurm_job_id", slurm_id},
+              {"spawn_error", c.spawn_error},
+              {"pid", c.pid},
+              {"exited", c.exited},
+              {"exit_code", c.exit_code},
+              {"term_signal", c.term_signal},
+              {"timed_out", c.timed_out},
+              {"wall_s", c.wall_s},
+              {"cpu_s", c.cpu_s},
+              {"peak_rss_kb", c.peak_rss_kb}};
+    try {
+      write_file_atomic(outcome, o.dump(1) + "\n");
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "runner slurm-task: %s\n", e.what());
+      rc = 1;
+    }
+  }
+  return rc;
+}
+
+IngestReport ingest_slurm(Store& store, std::ostream& out) {
+  IngestReport rep;
+  struct Sub {
+    std::int64_t id;
+    std::string array_id;
+    fs::path dir;
+    std::optional<double> timeout;
+  };
+  std::vector<Sub> subs;
+  {
+    Stmt q = store.db().prepare(
+        "SELECT s.id, coalesce(s.slurm_job_id, ''), s.dir FROM slurm_submissions s WHERE "
+        "EXISTS (SELECT 1 FROM jobs j WHERE j.state='submitted' AND j.slurm_job_id LIKE "
+        "s.slurm_job_id || '\\_%' ESCAPE '\\')");
+    while (q.step())
+      subs.push_back({q.integer(0), q.text(1), q.text(2), std::nullopt});
+  }
+  for (auto& sub : subs) {
+    try {
+      json m = json::parse(read_all(sub.dir / "manifest.json"));
+      if (!m.at("timeout_s").is_null())
+        sub.timeout = m.at("timeout_s").get<double>();
+    } catch (...) {
+    }
+    // Is the array still queued or running? Asked before reading outcomes, so that a job whose
+    // outcome appears in between is not taken for lost.
+    bool array_gone = false;
+    if (!sub.array_id.empty()) {
+      Cmd q = shell("squeue -h -r -j " + sub.array_id + " -o %i");
+      if (q.code == 0 && trim(q.out).empty())
+        array_gone = true;
+      else if (q.out.find("Invalid job id") != std::string::npos)
+        array_gone = true;
+    }
+    Stmt jobs = store.db().prepare(
+        "SELECT id, key, attempts, slurm_job_id, output_dir FROM jobs WHERE state='submitted' "
+        "AND slurm_job_id LIKE ? || '\\_%' ESCAPE '\\'");
+    jobs.bind(1, sub.array_id);
+    struct J {
+      std::int64_t id;
+      std::string key;
+      int attempt;
+      std::string slurm_id;
+    };
+    std::vector<J> js;
+    while (jobs.step())
+      js.push_back({jobs.integer(0), jobs.text(1), static_cast<int>(jobs.integer(2)),
+                    jobs.text(3)});
+    const fs::path db_dir =
+        store.path().parent_path().empty() ? fs::path(".") : store.path().parent_path();
+    std::vector<std::pair<std::int64_t, int>> lost;
+    for (const auto& j : js) {
+      std::string stem = j.key + "." + std::to_string(j.attempt);
+      fs::path outcome = sub.dir / "results" / (stem + ".outcome.json");
+      fs::path result = sub.dir / "results" / (stem + ".result.json");
+      fs::path log = sub.dir / "logs" / (stem + ".log");
+      std::error_code ec;
+      if (!fs::exists(outcome, ec)) {
+        if (array_gone)
+          lost.emplace_back(j.id, j.attempt);
+        else
+          ++rep.waiting;
+        continue;
+      }
+      ChildOutcome c;
+      std::string host = "?", slurm_id = j.slurm_id;
+      try {
+        json o = json::parse(read_all(outcome));
+        c.spawn_error = o.value("spawn_error", "");
+        c.pid = o.value("pid", 0);
+        c.exited = o.value("exited", false);
+        c.exit_code = o.value("exit_code", 0);
+        c.term_signal = o.value("term_signal", 0);
+        c.timed_out = o.value("timed_out", false);
+        c.wall_s = o.value("wall_s", 0.0);
+        c.cpu_s = o.value("cpu_s", 0.0);
+        c.peak_rss_kb = o.value("peak_rss_kb", 0L);
+        host = o.value("host", "?");
+        if (auto s = o.value("slurm_job_id", std::string()); !s.empty())
+          slurm_id = s;
+      } catch (const std::exception& e) {
+        c.spawn_error = "unreadable outcome file '" + outcome.string() + "': " + e.what();
+      }
+      Finish f = outcome_to_finish(c, result, log, sub.timeout);
+      if (f.state != "done" && f.state != "diverged")
+        f.error_text += "\n(full output: " + log.string() + ")";
+      {
+        Stmt od = store.db().prepare("SELECT s.name FROM study_jobs sj JOIN studies s ON "
+                                     "s.id=sj.study_id WHERE sj.job_id=? LIMIT 1");
+        od.bind(1, j.id);
+        if (od.step()) {
+          fs::path d = fs::absolute(db_dir) / od.text(0) / j.key;
+          if (fs::is_directory(d, ec) && !fs::is_empty(d, ec))
+            f.output_dir = d.string();
+          else
+            fs::remove(d, ec);
+        }
+      }
+      if (store.finish_submitted(j.id, j.attempt, host, slurm_id, f))
+        ++rep.ingested;
+      // Ingested (or stale): the files have done their job.
+      fs::remove(outcome, ec);
+      fs::remove(result, ec);
+      fs::remove(sub.dir / "specs" / (stem + ".spec.json"), ec);
+      if (f.state == "done" || f.state == "diverged")
+        fs::remove(log, ec);
+    }
+    if (!lost.empty()) {
+      WriteTx tx(store.db());
+      Stmt u = store.db().prepare("UPDATE jobs SET state='pending', owner_host=NULL, "
+                                  "heartbeat_at=NULL, updated_at=? WHERE id=? AND "
+                                  "state='submitted' AND attempts=?");
+      Stmt a = store.db().prepare(
+          "UPDATE attempts SET state='abandoned', failure_class='stale', finished_at=?, "
+          "error_text=? WHERE job_id=? AND attempt=?");
+      double now = unix_now();
+      std::string reason = "abandoned: Slurm array " + sub.array_id +
+                           " left the queue without an outcome for this job (cancelled, time "
+                           "limit, node failure)";
+      for (const auto& [id, attempt] : lost) {
+        u.bind(1, now).bind(2, id).bind(3, attempt).run();
+        a.bind(1, now).bind(2, reason).bind(3, id).bind(4, attempt).run();
+      }
+      tx.commit();
+      rep.lost += lost.size();
+    }
+  }
+  (void)out;
+  return rep;
+}
+
+int cmd_ingest(const fs::path& db, std::ostream& out) {
+  Store store = Store::open_write(db);
+  IngestReport r = ingest_slurm(store, out);
+  out << "ingested " << r.ingested << " job(s), " << r.lost << " lost (pending again), "
+      << r.waiting << " still submitted\n";
+  return 0;
+}
+
+} // namespace sph::runner

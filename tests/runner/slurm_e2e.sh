@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# End-to-end test of `runner submit --slurm` on a real single-node Slurm cluster started by
+# scripts/slurm/start_local_cluster.sh: a small patch_test study runs as a job array, its results
+# are ingested and must equal a local run of the same study; failed jobs are resubmitted alone;
+# a cancelled array's unfinished jobs come back as pending and are resubmitted alone.
+# Usage: slurm_e2e.sh RUNNER_EXE SOURCE_DIR. Exit 77 (skipped) when not root or Slurm is missing.
+set -euo pipefail
+RUNNER=$1
+SRC=$2
+if [[ $(id -u) -ne 0 ]]; then
+  echo "SKIPPED: the Slurm test starts a local cluster and must run as root"
+  exit 77
+fi
+for b in sbatch squeue scancel slurmctld slurmd munged; do
+  if ! command -v "$b" >/dev/null; then
+    echo "SKIPPED: $b not found (scripts/install_deps.sh installs slurm-wlm and munge)"
+    exit 77
+  fi
+done
+t0=$(date +%s)
+"$SRC/scripts/slurm/start_local_cluster.sh"
+echo "cluster ready in $(($(date +%s) - t0)) s"
+
+DIR=$(mktemp -d /tmp/sph_slurm_e2e.XXXXXX)
+trap 'rm -rf "$DIR"' EXIT
+cd "$DIR"
+cat > s.toml <<'TOML'
+[study]
+name = "slurm_e2e"
+case = "patch_test"
+[sweep]
+visc = ["visc01", "visc03"]
+n_side = [8, 10, 12]
+TOML
+fail() { echo "FAIL: $*"; exit 1; }
+q() { "$RUNNER" query --db "$1" "$2" | tail -n +2; }
+# Every metric but the timings (laplacian_cpu_s, and laplacian_repeats, which the case picks to
+# fill 50 ms of CPU time) must be equal.
+metrics() {
+  q "$1" "SELECT job, metric, value FROM job_metrics WHERE metric NOT IN ('laplacian_cpu_s', 'laplacian_repeats') ORDER BY job, metric"
+}
+
+# 1. The reference: a local run.
+"$RUNNER" s.toml --db local/results.sqlite -j 2 >local.log 2>&1 || { cat local.log; fail "local run"; }
+
+# 2. Through Slurm, with one job made to crash: 6 jobs, 2 per array task, at most 2 tasks at once.
+SPH_RUNNER_FAULT=segv SPH_RUNNER_FAULT_MATCH=n_side=10 timeout 300 \
+  "$RUNNER" submit s.toml --slurm --jobs-per-task 2 --array-limit 2 --wait \
+  --db slurm/results.sqlite | tee submit1.log || true
+grep -q "submitted 6 jobs as Slurm array" submit1.log || fail "first submission"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM jobs WHERE state='done'") == 4 ]] || fail "4 done"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM jobs WHERE state='failed'") == 2 ]] || fail "2 failed"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM attempts WHERE failure_class='signal' AND error_text LIKE '%SIGSEGV%'") == 2 ]] \
+  || fail "crash classified as signal"
+# Every attempt records the Slurm array task that ran it, and the host.
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM attempts WHERE slurm_job_id GLOB '[0-9]*_[0-9]*' AND host != 'slurm'") == 6 ]] \
+  || fail "slurm ids recorded"
+"$RUNNER" status slurm_e2e --db slurm/results.sqlite
+
+# 3. Resubmission of only the failed jobs.
+timeout 300 "$RUNNER" submit s.toml --slurm --retry-failed --wait --db slurm/results.sqlite | tee submit2.log
+grep -q "submitted 2 jobs" submit2.log || fail "only the 2 failed jobs are resubmitted"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM jobs WHERE state='done'") == 6 ]] || fail "6 done"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM attempts WHERE state='done'") == 6 ]] || fail "one done attempt per job"
+
+# 4. The results equal the local run's, bit for bit (shortest round-trip reals).
+diff <(metrics local/results.sqlite) <(metrics slurm/results.sqlite) || fail "Slurm metrics differ from the local run"
+[[ $(metrics slurm/results.sqlite | grep -c ',err,') == 6 ]] || fail "no err metric"
+echo "metrics of the Slurm run equal the local run's: $(metrics slurm/results.sqlite | wc -l) values"
+
+# 5. A cancelled array: the jobs it did not finish go back to pending and only they are resubmitted.
+sed -i 's/n_side = \[8, 10, 12\]/n_side = [8, 10, 12, 14]/' s.toml
+SPH_RUNNER_FAULT=hang SPH_RUNNER_FAULT_MATCH=n_side=14 \
+  "$RUNNER" submit s.toml --slurm --db slurm/results.sqlite | tee submit3.log
+array=$(sed -n 's/.*as Slurm array \([0-9]*\).*/\1/p' submit3.log)
+[[ -n "$array" ]] || fail "third submission"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM jobs WHERE state='submitted'") == 2 ]] || fail "2 submitted"
+"$RUNNER" status slurm_e2e --db slurm/results.sqlite | tee status.log
+grep -q "submitted to Slurm" status.log || fail "status shows submitted jobs"
+# Wait until both jobs are running (hanging), then cancel the array.
+for _ in $(seq 100); do
+  [[ $(squeue -h -r -j "$array" -t R | wc -l) -ge 1 ]] && break
+  sleep 0.2
+done
+sleep 1
+scancel "$array"
+for _ in $(seq 100); do
+  [[ -z "$(squeue -h -r -j "$array" 2>/dev/null)" ]] && break
+  sleep 0.2
+done
+"$RUNNER" ingest --db slurm/results.sqlite | tee ingest.log
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM jobs WHERE state='pending'") == 2 ]] || fail "cancelled jobs pending again"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM attempts WHERE failure_class='stale'") -ge 2 ]] || fail "lost attempts kept as stale"
+timeout 300 "$RUNNER" submit s.toml --slurm --wait --db slurm/results.sqlite | tee submit4.log
+grep -q "submitted 2 jobs" submit4.log || fail "only the 2 unfinished jobs are resubmitted"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM jobs WHERE state='done'") == 8 ]] || fail "8 done"
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM attempts WHERE state='done'") == 8 ]] || fail "one done attempt per job"
+[[ $(q slurm/results.sqlite "PRAGMA integrity_check") == ok ]] || fail "integrity"
+echo "PASS: Slurm end to end in $(($(date +%s) - t0)) s"

@@ -1,0 +1,183 @@
+// Checkpoints: the io::Checkpointer round trip, a cancelled checkpoint_demo job resumed to the same
+// bits as an uninterrupted run, and the runner killed (SIGKILL) in the middle of a long job: the
+// re-run resumes from the checkpoint in the job's output directory, its metrics equal an
+// uninterrupted run's bit for bit, and its progress fraction was visible while it ran.
+#include "e2e_helpers.hpp"
+
+#include "cases/case.hpp"
+#include "io/checkpoint.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <map>
+#include <thread>
+
+using namespace sph;
+using namespace sph::runner;
+using namespace sph::runner::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+Params demo_params(std::int64_t steps, std::int64_t sleep_us = 0) {
+  const CaseInfo* c = find_case("checkpoint_demo");
+  Params p;
+  for (const auto& s : c->params)
+    p[s.name] = s.default_value;
+  p["steps"] = steps;
+  p["step_sleep_us"] = sleep_us;
+  return p;
+}
+
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+// Metrics of the only job in a database, as stored (doubles, not text).
+std::map<std::string, double> metric_values(const fs::path& db) {
+  Db d(db.string(), SQLITE_OPEN_READONLY);
+  Stmt s = d.prepare("SELECT metric, value FROM job_metrics");
+  std::map<std::string, double> out;
+  while (s.step())
+    out[s.text(0)] = s.real(1);
+  return out;
+}
+
+} // namespace
+
+TEST(Checkpoint, RoundTripIsExact) {
+  TempDir dir;
+  io::Checkpointer ck(dir / "out", 10, 0);
+  EXPECT_FALSE(ck.load({"x"}).has_value());
+  EXPECT_FALSE(ck.due(5));
+  EXPECT_TRUE(ck.due(20));
+  io::CheckpointState s{42, 0.1 + 0.2, {{"x", {1.0 / 3.0, -0.0, 1e-310, 6.02e23}}}};
+  ck.save(s);
+  auto r = ck.load({"x"});
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->step, 42);
+  EXPECT_TRUE(same_bits(r->time, 0.1 + 0.2));
+  ASSERT_EQ(r->arrays["x"].size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i)
+    EXPECT_TRUE(same_bits(r->arrays["x"][i], s.arrays["x"][i]));
+  EXPECT_FALSE(fs::exists(dir / "out" / "checkpoint.h5.tmp"));
+  EXPECT_THROW(ck.load({"missing"}), std::runtime_error);
+  ck.discard();
+  EXPECT_FALSE(ck.load({"x"}).has_value());
+  io::Checkpointer off("", 1, 1);
+  EXPECT_FALSE(off.due(1));
+}
+
+TEST(Checkpoint, CancelledJobResumesToTheSameBits) {
+  const CaseInfo* c = find_case("checkpoint_demo");
+  ASSERT_NE(c, nullptr);
+  Params p = demo_params(3000);
+  RunContext plain;
+  RunResult ref = c->run(p, plain);
+  ASSERT_EQ(ref.status, RunStatus::Done);
+
+  TempDir dir;
+  std::atomic<bool> cancel{false};
+  RunContext ctx;
+  ctx.checkpoint_dir = dir / "job";
+  ctx.checkpoint_every_steps = 1000;
+  ctx.cancel = &cancel;
+  ctx.progress = [&](double f) {
+    if (f >= 0.45)
+      cancel = true;
+  };
+  RunResult first = c->run(p, ctx);
+  EXPECT_EQ(first.status, RunStatus::Cancelled);
+  ASSERT_TRUE(fs::exists(dir / "job" / "checkpoint.h5"));
+
+  cancel = false;
+  ctx.progress = nullptr;
+  ctx.attempt = 2;
+  RunResult second = c->run(p, ctx);
+  ASSERT_EQ(second.status, RunStatus::Done);
+  EXPECT_CONTAINS(second.message, "resumed from step 13"); // cancelled at 45%, step 1350
+  ASSERT_EQ(second.metrics.size(), ref.metrics.size());
+  for (std::size_t i = 0; i < ref.metrics.size(); ++i) {
+    EXPECT_EQ(second.metrics[i].first, ref.metrics[i].first);
+    EXPECT_TRUE(same_bits(second.metrics[i].second, ref.metrics[i].second))
+        << ref.metrics[i].first << ": " << second.metrics[i].second << " vs "
+        << ref.metrics[i].second;
+  }
+  EXPECT_FALSE(fs::exists(dir / "job" / "checkpoint.h5")); // discarded once final
+}
+
+// The runner is SIGKILLed while a long job runs (after its first checkpoints); the next run
+// resumes the job from its checkpoint instead of starting over.
+TEST(Checkpoint, RunnerKilledMidJobResumesFromTheCheckpoint) {
+  TempDir dir;
+  // 600 steps x 5 ms = 3 s per job; step_sleep_us is not part of the job key, so the reference
+  // run below (without the pause) has the same key and must give the same bits.
+  write_text(dir / "slow.toml", R"([study]
+name = "ckpt"
+case = "checkpoint_demo"
+[params]
+steps = 600
+step_sleep_us = 5000
+)");
+  write_text(dir / "fast.toml", R"([study]
+name = "ckpt"
+case = "checkpoint_demo"
+[params]
+steps = 600
+)");
+  fs::path db = dir / "results" / "results.sqlite";
+  pid_t pid = spawn_runner(dir.path(),
+                           {"slow.toml", "--checkpoint-every-steps", "100", "--heartbeat-s", "0.2"},
+                           {}, dir / "bg.txt");
+  ASSERT_GT(pid, 0);
+  std::string key;
+  double progress_seen = -1;
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    try {
+      if (!fs::exists(db))
+        continue;
+      key = sql_text(db, "SELECT key FROM jobs");
+      if (!key.empty())
+        key.pop_back();
+      std::string pr = sql_text(db, "SELECT progress FROM jobs WHERE state='running'");
+      if (!pr.empty() && pr != "\n")
+        progress_seen = std::stod(pr);
+      if (!key.empty() && progress_seen > 0.25 &&
+          fs::exists(dir / "results" / "ckpt" / key / "checkpoint.h5"))
+        break;
+    } catch (...) {
+    }
+  }
+  ASSERT_GT(progress_seen, 0.25) << "the running job's progress reached the database";
+  auto st = run_runner(dir, "status ckpt", "", "status.txt");
+  EXPECT_CONTAINS(st.out, "running jobs:");
+  EXPECT_CONTAINS(st.out, "%");
+  ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  wait_exit(pid);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_TRUE(fs::exists(dir / "results" / "ckpt" / key / "checkpoint.h5"));
+
+  auto r = run_runner(dir, "slow.toml --checkpoint-every-steps 100");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE state='done' AND attempt=2 AND "
+                        "message LIKE 'resumed from step %'"),
+            1)
+      << sql_text(db, "SELECT attempt, state, message, error_text FROM attempts");
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE state='abandoned' AND "
+                        "failure_class='stale'"),
+            1);
+
+  auto ref = run_runner(dir, "fast.toml --db ref/results.sqlite");
+  ASSERT_EQ(ref.code, 0) << ref.out;
+  auto resumed = metric_values(db), reference = metric_values(dir / "ref" / "results.sqlite");
+  ASSERT_EQ(resumed.size(), 5u);
+  ASSERT_EQ(reference.size(), resumed.size());
+  for (const auto& [name, value] : reference)
+    EXPECT_TRUE(same_bits(resumed[name], value))
+        << name << ": resumed " << resumed[name] << " vs uninterrupted " << value;
+}

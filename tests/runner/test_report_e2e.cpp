@@ -1,0 +1,253 @@
+// End-to-end tests of `runner report` on tiny patch_test studies: the page and its figures, only
+// changed figures are redrawn, diverged jobs are marked, the page without gnuplot, invalid
+// [[figures]] rejected with file:line by both `runner report` and `runner run`.
+#include "helpers.hpp"
+#include "io/hdf5.hpp"
+#include "sqlite.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+using namespace sph::runner;
+using namespace sph::runner::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string out;
+};
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+Result run(const TempDir& dir, const std::string& args, const std::string& env = "") {
+  std::string cmd = "cd '" + dir.path().string() + "' && " + env + " '" RUNNER_EXE "' " + args +
+                    " > out.txt 2>&1";
+  int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(dir / "out.txt")};
+}
+
+bool have_gnuplot() {
+  return std::system("gnuplot --version > /dev/null 2>&1") == 0;
+}
+
+std::size_t count(const std::string& s, const std::string& what) {
+  std::size_t n = 0;
+  for (auto p = s.find(what); p != std::string::npos; p = s.find(what, p + 1))
+    ++n;
+  return n;
+}
+
+std::string study(const std::string& n_sides) {
+  return R"([study]
+name = "figs"
+case = "patch_test"
+[params]
+lattice = "uniform"
+[sweep]
+visc = ["visc01", "visc03"]
+n_side = [)" +
+         n_sides + R"(]
+
+[[figures]]
+name = "small"
+x = "n_side"
+y = "err"
+group = ["visc"]
+where = { n_side = [8, 9] }
+log_x = true
+log_y = true
+fit = "power"
+
+[[figures]]
+name = "all"
+title = "Every resolution"
+x = "n_side"
+y = ["err", "err_l2"]
+group = ["visc"]
+log_y = true
+fit = "linear"
+mark = ["diverged"]
+[[figures.reference]]
+label = "x^-2"
+expr = "0.5 * x^-2"
+citation = "a guide to the eye"
+)";
+}
+
+} // namespace
+
+TEST(ReportE2E, WritesThePageAndRedrawsOnlyWhatChanged) {
+  TempDir dir;
+  write_text(dir / "figs.toml", study("8, 9"));
+  ASSERT_EQ(run(dir, "figs.toml -j 2 --db r/db.sqlite").code, 0);
+  auto r = run(dir, "report figs.toml --db r/db.sqlite");
+  ASSERT_EQ(r.code, 0) << r.out;
+  fs::path out = dir / "r" / "report" / "figs";
+  std::string page = read_file(out / "index.html");
+  EXPECT_CONTAINS(page, "<h1>figs</h1>");
+  EXPECT_CONTAINS(page, "Every resolution");
+  EXPECT_CONTAINS(page, "a guide to the eye");
+  // One pivot table per metric of each figure, one cell per (n_side, visc).
+  EXPECT_EQ(count(page, "<table class=\"pivot\""), 3u);
+  EXPECT_EQ(count(page, "data-params="), 4u + 8u);
+  EXPECT_TRUE(fs::exists(out / "small.csv"));
+  if (!have_gnuplot()) {
+    EXPECT_CONTAINS(page, "gnuplot was not found");
+    GTEST_SKIP() << "gnuplot is not installed (Debian package gnuplot-nox): figures not drawn";
+  }
+  EXPECT_CONTAINS(r.out, "2 figures (2 drawn, 0 unchanged)");
+  EXPECT_CONTAINS(page, "<img src=\"small.svg\"");
+  EXPECT_CONTAINS(page, "<img src=\"all.svg\"");
+  EXPECT_CONTAINS(read_file(out / "small.svg"), "<svg");
+  EXPECT_CONTAINS(read_file(out / "all.gp"), "set logscale y 10");
+
+  // Nothing changed: nothing redrawn.
+  r = run(dir, "report figs --db r/db.sqlite"); // by name, as recorded in the database
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "2 figures (0 drawn, 2 unchanged)");
+
+  // A new resolution changes the figure of every resolution, not the one of n_side 8 and 9.
+  write_text(dir / "figs.toml", study("8, 9, 10"));
+  ASSERT_EQ(run(dir, "figs.toml -j 2 --db r/db.sqlite").code, 0);
+  r = run(dir, "report figs.toml --db r/db.sqlite");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "2 figures (1 drawn, 1 unchanged)");
+  EXPECT_EQ(count(read_file(out / "index.html"), "data-params="), 4u + 12u);
+
+  // --tier: the jobs of one tier ("full": the study without a tier).
+  r = run(dir, "report figs.toml --db r/db.sqlite --tier full --out full");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "6 jobs");
+  r = run(dir, "report figs.toml --db r/db.sqlite --tier quick");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_CONTAINS(r.out, "no jobs in tier 'quick'");
+
+  // PNG output into another directory.
+  r = run(dir, "report figs.toml --db r/db.sqlite --out png --image-format png");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::string png = read_file(dir / "png" / "all.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+}
+
+TEST(ReportE2E, MarksDivergedJobs) {
+  TempDir dir;
+  write_text(dir / "figs.toml", study("8, 9"));
+  ASSERT_EQ(run(dir, "figs.toml -j 2 --db r/db.sqlite",
+                "SPH_RUNNER_FAULT=nan "
+                "SPH_RUNNER_FAULT_MATCH=n_side=9")
+                .code,
+            0);
+  auto r = run(dir, "report figs.toml --db r/db.sqlite --out rep");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::string page = read_file(dir / "rep" / "index.html");
+  EXPECT_CONTAINS(page, "2 diverged");
+  EXPECT_CONTAINS(page, "Marked (2 jobs)");
+  // The diverged jobs have no value in the tables.
+  EXPECT_EQ(count(page, "data-params="), 2u + 4u);
+  EXPECT_CONTAINS(read_file(dir / "rep" / "all.gp"), "diverged (2 jobs)");
+}
+
+TEST(ReportE2E, WithoutGnuplotThePageStillHasTheTables) {
+  TempDir dir;
+  write_text(dir / "figs.toml", study("8, 9"));
+  ASSERT_EQ(run(dir, "figs.toml -j 2 --db r/db.sqlite").code, 0);
+  auto r = run(dir, "report figs.toml --db r/db.sqlite", "SPH_GNUPLOT=/nonexistent/gnuplot");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "gnuplot not found");
+  std::string page = read_file(dir / "r" / "report" / "figs" / "index.html");
+  EXPECT_CONTAINS(page, "gnuplot was not found");
+  EXPECT_EQ(count(page, "<img"), 0u);
+  EXPECT_EQ(count(page, "data-params="), 4u + 8u);
+  EXPECT_TRUE(fs::exists(dir / "r" / "report" / "figs" / "all.gp")); // for whoever has gnuplot
+}
+
+TEST(ReportE2E, InvalidFiguresAreRejectedWithTheirLine) {
+  TempDir dir;
+  write_text(dir / "figs.toml", study("8, 9"));
+  ASSERT_EQ(run(dir, "figs.toml -j 2 --db r/db.sqlite").code, 0);
+  std::string bad = study("8, 9") + "\n[[figures]]\nname = \"oops\"\nx = \"nside\"\ny = \"err\"\n";
+  write_text(dir / "figs.toml", bad);
+  auto r = run(dir, "report figs.toml --db r/db.sqlite");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "figs.toml:36:");
+  EXPECT_CONTAINS(r.out, "did you mean 'n_side'?");
+  r = run(dir, "figs.toml --db r/db.sqlite");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_CONTAINS(r.out, "figs.toml:36:");
+  // A study that was never run, or an unknown name.
+  r = run(dir, "report nothing --db r/db.sqlite");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_CONTAINS(r.out, "neither a study file nor a study");
+}
+
+// A series figure reads each job's HDF5 output (here written by the test into the jobs' output
+// directories, as a time-dependent case would) and draws an analytic reference that uses a
+// parameter of the job.
+TEST(ReportE2E, SeriesFiguresReadTheJobsHdf5Outputs) {
+  TempDir dir;
+  std::string text = R"toml([study]
+name = "series"
+case = "patch_test"
+[sweep]
+h_over_dx = [1.2, 1.5]
+
+[[figures]]
+name = "energy"
+kind = "series"
+file = "series.h5"
+x = "time"
+y = "energy"
+group = ["h_over_dx"]
+log_y = true
+[[figures.reference]]
+label = "exp(-h_over_dx t)"
+expr = "exp(-h_over_dx * x)"
+)toml";
+  write_text(dir / "series.toml", text);
+  ASSERT_EQ(run(dir, "series.toml -j 2 --db r/db.sqlite").code, 0);
+  {
+    Db db((dir / "r" / "db.sqlite").string(), SQLITE_OPEN_READWRITE);
+    Stmt q = db.prepare("SELECT key, json_extract(params_json, '$.h_over_dx') FROM jobs");
+    std::vector<std::pair<std::string, double>> jobs;
+    while (q.step())
+      jobs.emplace_back(q.text(0), q.real(1));
+    ASSERT_EQ(jobs.size(), 2u);
+    for (const auto& [key, h] : jobs) {
+      fs::path out = dir / "r" / "series" / key;
+      fs::create_directories(out);
+      std::vector<double> t, e;
+      for (int i = 0; i <= 20; ++i)
+        t.push_back(0.1 * i), e.push_back(std::exp(-h * 0.1 * i));
+      sph::io::H5Writer w(out / "series.h5");
+      w.write("time", t);
+      w.write("energy", e);
+      w.close();
+      Stmt u = db.prepare("UPDATE jobs SET output_dir=? WHERE key=?");
+      u.bind(1, out.string()).bind(2, key);
+      u.run();
+    }
+  }
+  auto r = run(dir, "report series.toml --db r/db.sqlite --out rep");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::string page = read_file(dir / "rep" / "index.html");
+  EXPECT_EQ(count(page, "<table class=\"series\""), 1u);
+  EXPECT_EQ(count(page, "<td>energy</td><td>21</td>"), 2u);
+  std::string gp = read_file(dir / "rep" / "energy.gp");
+  EXPECT_CONTAINS(gp, "exp(-h_over_dx t) (h_over_dx=1.2)");
+  EXPECT_CONTAINS(gp, "exp(-h_over_dx t) (h_over_dx=1.5)");
+  EXPECT_CONTAINS(gp, "with lines");
+  if (have_gnuplot())
+    EXPECT_CONTAINS(read_file(dir / "rep" / "energy.svg"), "<svg");
+}
