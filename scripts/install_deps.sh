@@ -7,6 +7,8 @@ PACKAGES=(
   libeigen3-dev libsuitesparse-dev libhdf5-dev
   libsqlite3-dev sqlite3 libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libssl-dev
   libgtest-dev
+  gnuplot-nox chromium
+  slurm-wlm munge
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
