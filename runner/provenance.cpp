@@ -1,11 +1,9 @@
 // Provenance strings recorded with every attempt.
 #include "provenance.hpp"
 
-#include <unistd.h>
+#include "git_version.hpp" // generated at build time by cmake/git_version.cmake
 
-#ifndef SPH_GIT_VERSION
-#define SPH_GIT_VERSION "unknown"
-#endif
+#include <unistd.h>
 
 namespace sph::runner {
 
