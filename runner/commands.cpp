@@ -144,10 +144,12 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
     out << "\n";
   }
 
-  std::string job_filter =
-      sid ? " AND j.id IN (SELECT job_id FROM study_jobs WHERE study_id=" + std::to_string(*sid) +
-                ")"
-          : "";
+  // Per-job test (study_jobs_job index), so that the few running or failed jobs drive the
+  // queries rather than the list of all the study's jobs.
+  std::string job_filter = sid ? " AND EXISTS (SELECT 1 FROM study_jobs sj WHERE sj.job_id=j.id "
+                                 "AND sj.study_id=" +
+                                     std::to_string(*sid) + ")"
+                               : "";
   Stmt r = db.prepare("SELECT j.key, j.owner_host, j.owner_pid, j.heartbeat_at, j.progress, "
                       "j.params_json FROM jobs j WHERE j.state='running'" +
                       job_filter + " ORDER BY j.heartbeat_at");
@@ -158,6 +160,9 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
     out << "  " << r.text(0).substr(0, 12) << "  " << r.text(1) << ":" << r.integer(2)
         << "  heartbeat "
         << (r.is_null(3) ? std::string("never") : format_duration(now - r.real(3)) + " ago");
+    // A runner refreshes its heartbeats every 5 s; the next run resets jobs older than 30 s.
+    if (!r.is_null(3) && now - r.real(3) > 30)
+      out << " (stale: owner gone? the next run re-queues it)";
     if (!r.is_null(4)) {
       std::snprintf(buf, sizeof buf, "  %.0f%%", 100 * r.real(4));
       out << buf;
@@ -176,11 +181,12 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
         << sb.integer(1) << " job(s), submitted " << format_duration(now - sb.real(2)) << " ago\n";
   }
 
-  Stmt e = db.prepare("SELECT j.key, a.attempt, a.state, a.finished_at, a.error_text, "
-                      "coalesce(a.failure_class, a.state) FROM "
-                      "attempts a JOIN jobs j ON j.id=a.job_id WHERE a.state IN "
-                      "('failed','timeout','abandoned','interrupted') AND a.error_text IS NOT NULL" +
-                      job_filter + " ORDER BY a.finished_at DESC LIMIT 10");
+  Stmt e =
+      db.prepare("SELECT j.key, a.attempt, a.state, a.finished_at, a.error_text, "
+                 "coalesce(a.failure_class, a.state), j.state FROM "
+                 "attempts a JOIN jobs j ON j.id=a.job_id WHERE a.state IN "
+                 "('failed','timeout','abandoned','interrupted') AND a.error_text IS NOT NULL" +
+                 job_filter + " ORDER BY a.finished_at DESC LIMIT 10");
   header = false;
   while (e.step()) {
     if (!header)
@@ -188,7 +194,8 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
     std::string text = e.text(4);
     std::string first = text.substr(0, text.find('\n'));
     out << "  " << e.text(0).substr(0, 12) << " attempt " << e.integer(1) << " " << e.text(2)
-        << " [" << e.text(5) << "] (" << format_duration(now - e.real(3)) << " ago): " << first << "\n";
+        << " [" << e.text(5) << "] (" << format_duration(now - e.real(3)) << " ago): " << first
+        << (e.text(6) == "done" ? "  (job done since)" : "") << "\n";
   }
   return 0;
 }
@@ -217,10 +224,14 @@ int cmd_cases(std::ostream& out) {
 
 namespace {
 
-// Parses KEY=VALUE and returns an SQL condition on jobs `j` (with its bindings appended).
+// --where KEY=VALUE filters of `runner table`, turned into the set of the study's jobs that match
+// them all. The set is read from the job_params index, starting from the filter that matches the
+// fewest jobs (counted first, on the covering index), so that a filtered pivot of a 100,000-job
+// study touches only the jobs it shows.
+using Bind = std::variant<double, std::string, std::int64_t>;
 struct Filter {
-  std::string sql;
-  std::vector<std::variant<double, std::string>> binds;
+  std::vector<std::pair<std::string, Bind>> params; // (name, value)
+  std::vector<std::string> schemes;
 };
 
 Filter where_filter(Db& db, std::int64_t sid, const std::vector<std::string>& where) {
@@ -231,13 +242,12 @@ Filter where_filter(Db& db, std::int64_t sid, const std::vector<std::string>& wh
       throw std::runtime_error("--where '" + w + "': expected KEY=VALUE, e.g. lattice=uniform");
     std::string key = w.substr(0, eq), value = w.substr(eq + 1);
     if (key == "scheme") {
-      f.sql += " AND j.scheme = ?";
-      f.binds.emplace_back(value);
+      f.schemes.push_back(value);
       continue;
     }
     // The key must be a parameter of some job of the study.
-    Stmt k = db.prepare("SELECT 1 FROM job_params WHERE name=? AND job_id IN (SELECT job_id FROM "
-                        "study_jobs WHERE study_id=?) LIMIT 1");
+    Stmt k = db.prepare("SELECT 1 FROM job_params p WHERE p.name=? AND EXISTS (SELECT 1 FROM "
+                        "study_jobs sj WHERE sj.job_id=p.job_id AND sj.study_id=?) LIMIT 1");
     k.bind(1, key).bind(2, sid);
     if (!k.step()) {
       std::vector<std::string> names;
@@ -250,29 +260,61 @@ Filter where_filter(Db& db, std::int64_t sid, const std::vector<std::string>& wh
                                "study's jobs" + did_you_mean(key, names) +
                                (names.empty() ? "" : "; parameters: " + quoted_list(names)));
     }
-    f.sql += " AND j.id IN (SELECT job_id FROM job_params WHERE name = ? AND value = ?)";
-    f.binds.emplace_back(key);
     char* endp = nullptr;
     double x = std::strtod(value.c_str(), &endp);
     if (value == "true" || value == "false")
-      f.binds.emplace_back(value == "true" ? 1.0 : 0.0);
+      f.params.emplace_back(key, value == "true" ? 1.0 : 0.0);
     else if (!value.empty() && endp && *endp == 0)
-      f.binds.emplace_back(x);
+      f.params.emplace_back(key, x);
     else
-      f.binds.emplace_back(value);
+      f.params.emplace_back(key, value);
   }
   return f;
 }
 
-int bind_filter(Stmt& s, int first, const Filter& f) {
-  int i = first;
-  for (const auto& b : f.binds) {
-    if (std::holds_alternative<double>(b))
-      s.bind(i++, std::get<double>(b));
-    else
-      s.bind(i++, std::get<std::string>(b));
+Stmt& bind_value(Stmt& s, int i, const Bind& b) {
+  if (std::holds_alternative<double>(b))
+    return s.bind(i, std::get<double>(b));
+  if (std::holds_alternative<std::int64_t>(b))
+    return s.bind(i, std::get<std::int64_t>(b));
+  return s.bind(i, std::get<std::string>(b));
+}
+
+// A subquery `SELECT ... AS id` of the distinct jobs of study `sid` (current expansion) matching
+// the filter's parameters; appends the values of its placeholders, in order, to `binds`.
+std::string selected_jobs(Db& db, std::int64_t sid, const Filter& f, std::vector<Bind>& binds) {
+  if (f.params.empty()) {
+    binds.emplace_back(sid);
+    return "SELECT DISTINCT job_id AS id FROM study_jobs WHERE study_id=? AND current";
   }
-  return i;
+  // Most selective first: it drives the join, the others are primary-key look-ups.
+  std::vector<std::pair<std::int64_t, std::size_t>> order;
+  for (std::size_t i = 0; i < f.params.size(); ++i) {
+    Stmt c = db.prepare("SELECT count(*) FROM job_params WHERE name=? AND value=?");
+    c.bind(1, f.params[i].first);
+    bind_value(c, 2, f.params[i].second);
+    c.step();
+    order.emplace_back(c.integer(0), i);
+  }
+  std::sort(order.begin(), order.end());
+  std::string from = "job_params f0", cond;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const auto& [name, value] = f.params[order[k].second];
+    std::string a = "f";
+    a += std::to_string(k);
+    if (k > 0) {
+      from += " CROSS JOIN job_params ";
+      from += a;
+      cond += " AND " + a + ".job_id=f0.job_id AND ";
+    }
+    cond += a + ".name=? AND " + a + ".value=?";
+    binds.emplace_back(name);
+    binds.push_back(value);
+  }
+  binds.emplace_back(sid);
+  return "SELECT f0.job_id AS id FROM " + from + " WHERE " + cond +
+         " AND EXISTS (SELECT 1 FROM study_jobs sj WHERE sj.job_id=f0.job_id AND sj.study_id=? "
+         "AND sj.current)";
 }
 
 std::string markdown_cell(const std::string& s) {
@@ -302,12 +344,25 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
     return p == "scheme" ? std::string("j.scheme")
                          : "(SELECT value FROM job_params WHERE job_id=j.id AND name='" + p + "')";
   };
+  std::vector<Bind> binds;
+  std::string sel = selected_jobs(db, sid, filter, binds);
+  std::string scheme_cond;
+  for (const auto& sc : filter.schemes) {
+    scheme_cond += " AND j.scheme = ?";
+    binds.emplace_back(sc);
+  }
+  // CROSS JOIN keeps SQLite's join order: the selected jobs drive, the rest are look-ups.
   Stmt q = db.prepare("SELECT " + expr(t.rows) + ", " + expr(t.cols) + ", " + agg->second +
-                      "(m.value) FROM jobs j JOIN metrics m ON m.job_id=j.id WHERE m.name=? AND "
-                      "j.id IN (SELECT job_id FROM study_jobs WHERE study_id=? AND current)" +
-                      filter.sql + " GROUP BY 1, 2 ORDER BY 1, 2");
-  q.bind(1, t.metric).bind(2, sid);
-  bind_filter(q, 3, filter);
+                      "(m.value) FROM (" + sel +
+                      ") sel CROSS JOIN jobs j CROSS JOIN metrics m "
+                      "WHERE j.id=sel.id AND m.job_id=sel.id AND m.name=?" +
+                      scheme_cond + " GROUP BY 1, 2 ORDER BY 1, 2");
+  int i = 1;
+  for (std::size_t k = 0; k + filter.schemes.size() < binds.size(); ++k)
+    bind_value(q, i++, binds[k]);
+  q.bind(i++, t.metric);
+  for (std::size_t k = binds.size() - filter.schemes.size(); k < binds.size(); ++k)
+    bind_value(q, i++, binds[k]);
   // Keep numeric order for numeric parameter values.
   struct Key {
     bool numeric;

@@ -359,7 +359,19 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       });
 
     bool live = opts.live_progress.value_or(isatty(STDOUT_FILENO) != 0);
-    Progress progress(out, live, todo.size());
+    Progress progress(out, live, todo.size(), n_workers);
+    progress.set_width(terminal_columns());
+    progress.set_log_every_s(opts.log_every_s);
+    {
+      // Mean wall time of this study's earlier finished attempts: the ETA before a job finishes.
+      Stmt q = store.db().prepare(
+          "SELECT avg(a.wall_s) FROM attempts a WHERE a.state IN ('done','diverged') AND "
+          "a.wall_s IS NOT NULL AND a.job_id IN (SELECT job_id FROM study_jobs WHERE "
+          "study_id=? AND tier=?)");
+      q.bind(1, sync.study_id).bind(2, tier);
+      if (q.step() && !q.is_null(0))
+        progress.set_prior_job_s(q.real(0));
+    }
     AttemptStart start{host, pid, opts.threads_per_job, code_version(), compiler_id(), 0};
     std::map<std::int64_t, Task> running;
     std::size_t next = 0;
@@ -462,7 +474,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             detail += "  " + first_line;
             failures.push_back(label + ": " + first_line);
           }
-          progress.finished(f.state, label, detail);
+          progress.finished(f.state, label, detail, o.child.wall_s);
         }
         fs::remove(o.task.spec, ec);
         fs::remove(o.task.result, ec);
@@ -470,7 +482,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         fs::remove(o.task.progress, ec);
       }
       progress.set_running(running.size());
-      if (live) {
+      {
+        // Each running job's simulated-time fraction, as its worker last wrote it (<= 1/s).
         std::vector<std::pair<std::string, double>> fr;
         for (const auto& [id, t] : running)
           if (auto x = read_progress(t.progress))

@@ -5,8 +5,9 @@
 #include "executor.hpp"
 #include "job_worker.hpp"
 #include "provenance.hpp"
-#include "slurm.hpp"
 #include "report.hpp"
+#include "slurm.hpp"
+#include "store.hpp"
 #include "study.hpp"
 
 #include <CLI/CLI.hpp>
@@ -63,6 +64,15 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   run->add_option("--heartbeat-s", ro.heartbeat_s, "Heartbeat/progress interval (tests)")
       ->group("")
+      ->check(CLI::PositiveNumber);
+  std::string progress_mode = "auto";
+  run->add_option("--progress", progress_mode,
+                  "live: one line redrawn in place; plain: log lines; auto: live on a terminal")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "live", "plain"}));
+  run->add_option("--log-every-s", ro.log_every_s,
+                  "Plain progress: a progress line this often while jobs run")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
   run->add_flag("-n,--dry-run", ro.dry_run, "List the jobs and their state; run and write nothing");
   run->add_flag("--allow-network-fs", ro.allow_network_fs,
@@ -149,6 +159,15 @@ int main(int argc, char** argv) {
   submit->add_option("--slurm-dir", so.slurm_dir,
                      "Directory for manifests, specs, results (shared with the nodes; default: "
                      "<db dir>/slurm)");
+  submit
+      ->add_option("--checkpoint-every-steps", so.checkpoint_every_steps,
+                   "Jobs that support checkpoints save one every N steps (0: off)")
+      ->check(CLI::NonNegativeNumber);
+  submit
+      ->add_option("--checkpoint-every-s", so.checkpoint_every_s,
+                   "... and every S seconds of wall clock (0: off)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   submit->add_flag("--wait", so.wait, "Wait for the array, ingesting results as they arrive");
   submit->add_flag("-n,--dry-run", so.dry_run, "Write the manifest and script, do not sbatch");
 
@@ -177,6 +196,8 @@ int main(int argc, char** argv) {
       return run_job_files(spec_file, out_file, die_with_parent);
     if (*run) {
       ro.db_path = db_run;
+      if (progress_mode != "auto")
+        ro.live_progress = progress_mode == "live";
       if (timeout > 0)
         ro.timeout_s = timeout;
       Study study = load_study(study_file);
@@ -210,6 +231,23 @@ int main(int argc, char** argv) {
   } catch (const StudyError& e) {
     std::cerr << e.what() << "\n";
     return 2;
+  } catch (const SqliteError& e) {
+    // A page found damaged in the middle of a command: name the file and what to do.
+    int primary = e.code() & 0xff;
+    std::string db = *run      ? db_run
+                     : *submit ? db_submit
+                     : *ingest ? db_ingest
+                     : *query  ? db_query
+                     : *status ? db_status
+                     : *table  ? db_table
+                     : *report ? report_db
+                     : *exp    ? db_export
+                               : std::string();
+    if ((primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) && !db.empty())
+      std::cerr << "runner: error: " << damaged_message(db, e.what(), false) << "\n";
+    else
+      std::cerr << "runner: error: " << e.what() << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "runner: error: " << e.what() << "\n";
     return 1;

@@ -1,7 +1,10 @@
-// Live progress line or plain log lines for a running sweep.
+// Live progress line or plain log lines for a running sweep (see progress.hpp for the ETA).
 #include "progress.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <sys/ioctl.h>
+#include <unistd.h>
 
 namespace sph::runner {
 
@@ -17,8 +20,16 @@ std::string format_duration(double s) {
   return buf;
 }
 
-Progress::Progress(std::ostream& out, bool live, std::size_t total)
-    : out_(out), live_(live), total_(total), start_(std::chrono::steady_clock::now()) {}
+std::size_t terminal_columns() {
+  struct winsize w {};
+  if (isatty(STDOUT_FILENO) && ioctl(STDOUT_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col > 0)
+    return w.ws_col;
+  return 0;
+}
+
+Progress::Progress(std::ostream& out, bool live, std::size_t total, std::size_t workers)
+    : out_(out), live_(live), total_(total), workers_(std::max<std::size_t>(workers, 1)),
+      start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
 
 std::string Progress::counter() const {
   char buf[64];
@@ -28,12 +39,16 @@ std::string Progress::counter() const {
 }
 
 void Progress::finished(const std::string& state, const std::string& label,
-                        const std::string& detail) {
+                        const std::string& detail, std::optional<double> wall_s) {
   ++done_;
   if (state == "failed" || state == "timeout")
     ++failed_;
   if (state == "diverged")
     ++diverged_;
+  if (wall_s && (state == "done" || state == "diverged")) {
+    job_s_sum_ += *wall_s;
+    ++job_s_n_;
+  }
   bool notable = state != "done";
   if (live_ && !notable) {
     tick();
@@ -54,36 +69,58 @@ void Progress::set_running(std::size_t n) {
   running_ = n;
 }
 
+std::string Progress::eta() const {
+  std::optional<double> per_job;
+  if (job_s_n_ > 0)
+    per_job = job_s_sum_ / static_cast<double>(job_s_n_);
+  else
+    per_job = prior_job_s_;
+  if (!per_job)
+    return "?";
+  // Work left in jobs: those not started, plus what the running ones have still to do.
+  double in_flight = 0;
+  for (const auto& [label, f] : fractions_)
+    in_flight += std::clamp(f, 0.0, 1.0);
+  double left = static_cast<double>(total_ - std::min(done_, total_)) - in_flight;
+  double parallel =
+      static_cast<double>(std::min(workers_, std::max<std::size_t>(total_ - done_, 1)));
+  return format_duration(std::max(left, 0.0) * *per_job / parallel);
+}
+
+std::string Progress::line() const {
+  double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  std::string s = counter() + " running " + std::to_string(running_) + ", failed " +
+                  std::to_string(failed_) + ", diverged " + std::to_string(diverged_) +
+                  ", elapsed " + format_duration(elapsed) + ", ETA " + eta();
+  std::size_t shown = 0;
+  for (const auto& [label, f] : fractions_) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s %.0f%%", label.c_str(), 100 * std::clamp(f, 0.0, 1.0));
+    s += (shown++ == 0 ? " | " : ", ") + std::string(buf);
+  }
+  return s;
+}
+
 void Progress::tick() {
-  if (!live_)
-    return;
   auto now = std::chrono::steady_clock::now();
+  if (!live_) {
+    if (running_ > 0 && std::chrono::duration<double>(now - last_draw_).count() >= log_every_s_) {
+      last_draw_ = now;
+      out_ << "progress: " << line() << "\n" << std::flush;
+    }
+    return;
+  }
   if (drawn_ && now - last_draw_ < std::chrono::milliseconds(200))
     return;
   draw();
 }
 
 void Progress::draw() {
-  auto now = std::chrono::steady_clock::now();
-  last_draw_ = now;
-  double elapsed = std::chrono::duration<double>(now - start_).count();
-  std::string eta = "?";
-  if (done_ > 0)
-    eta =
-        format_duration(elapsed / static_cast<double>(done_) * static_cast<double>(total_ - done_));
-  out_ << "\r\033[K" << counter() << " running " << running_ << ", failed " << failed_
-       << ", diverged " << diverged_ << ", elapsed " << format_duration(elapsed) << ", ETA " << eta;
-  std::size_t shown = 0;
-  for (const auto& [label, f] : fractions_) {
-    if (shown++ == 4) {
-      out_ << " ...";
-      break;
-    }
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%s %.0f%%", label.c_str(), 100 * f);
-    out_ << (shown == 1 ? " | " : ", ") << buf;
-  }
-  out_ << std::flush;
+  last_draw_ = std::chrono::steady_clock::now();
+  std::string s = line();
+  if (width_ > 4 && s.size() > width_ - 1)
+    s = s.substr(0, width_ - 4) + "...";
+  out_ << "\r\033[K" << s << std::flush;
   drawn_ = true;
 }
 

@@ -1,9 +1,17 @@
-// Progress of a sweep: on a terminal, one live line (done/total, running, failed, elapsed, ETA
-// from the measured throughput) with failures printed above it; otherwise one log line per
-// finished job.
+// Progress of a sweep. On a terminal: one live line (done/total, running, failed, diverged,
+// elapsed, ETA, and each running job's simulated-time fraction), redrawn in place, with failures
+// printed above it. Otherwise (a pipe, a log file, a batch job): one plain line per finished job,
+// and a plain progress line every `log_every_s` seconds while jobs run, so a long job in a log is
+// never silent.
+//
+// ETA from measured job times: the mean wall time of the jobs finished in this run (before the
+// first one, the mean of the study's earlier attempts in the database), times the work left
+// (jobs not started, plus 1 - f of each running job at simulated-time fraction f), divided by the
+// number of workers.
 #pragma once
 
 #include <chrono>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -13,27 +21,44 @@ namespace sph::runner {
 
 class Progress {
 public:
-  Progress(std::ostream& out, bool live, std::size_t total);
-  // One job finished. `label` identifies it (key prefix and varying params), `detail` is the
-  // timing and first metric or the error.
-  void finished(const std::string& state, const std::string& label, const std::string& detail);
+  Progress(std::ostream& out, bool live, std::size_t total, std::size_t workers = 1);
+  // One job finished after wall_s seconds. `label` identifies it (key prefix and varying params),
+  // `detail` is the timing and first metric or the error.
+  void finished(const std::string& state, const std::string& label, const std::string& detail,
+                std::optional<double> wall_s = std::nullopt);
   void set_running(std::size_t n);
-  // Simulated-time fraction (0..1) of each running job, by short label; shown on the live line.
+  // Mean wall time of earlier attempts of this study's jobs (from the database), used for the ETA
+  // until a job of this run finishes.
+  void set_prior_job_s(std::optional<double> s) { prior_job_s_ = s; }
+  // Simulated-time fraction (0..1) of each running job, by short label.
   void set_fractions(std::vector<std::pair<std::string, double>> f) { fractions_ = std::move(f); }
-  // Redraws the live line (rate-limited); no-op in log mode.
+  // Live: redraws the line (at most 5 times a second). Plain: prints a progress line every
+  // log_every_s seconds while jobs run.
   void tick();
   // Clears the live line before the summary.
   void close();
+  // Terminal width used to cut the live line (it must not wrap, or \r cannot redraw it).
+  void set_width(std::size_t columns) { width_ = columns; }
+  void set_log_every_s(double s) { log_every_s_ = s; }
 
   std::size_t done() const { return done_; }
+  // "1:02:03", or "?" when no job time is known yet.
+  std::string eta() const;
+  // The progress text without control characters (the live line's content).
+  std::string line() const;
 
 private:
   std::ostream& out_;
   bool live_;
-  std::size_t total_;
+  std::size_t total_, workers_;
   std::size_t done_ = 0, failed_ = 0, diverged_ = 0, running_ = 0;
+  double job_s_sum_ = 0;
+  std::size_t job_s_n_ = 0;
+  std::optional<double> prior_job_s_;
   std::chrono::steady_clock::time_point start_, last_draw_;
   bool drawn_ = false;
+  std::size_t width_ = 0; // 0: do not cut
+  double log_every_s_ = 60;
   std::vector<std::pair<std::string, double>> fractions_;
   void draw();
   std::string counter() const;
@@ -41,5 +66,8 @@ private:
 
 // "1:02:03" or "4:05"
 std::string format_duration(double seconds);
+
+// Columns of the terminal on stdout (0 when not a terminal or unknown).
+std::size_t terminal_columns();
 
 } // namespace sph::runner

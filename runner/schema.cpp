@@ -142,10 +142,16 @@ CREATE TABLE slurm_submissions (
 );
 )SQL";
 
+// Version 3: attempts indexed by state (then time), so that `runner status` finds the last
+// failed attempts among 100,000 done ones without reading them all.
+const char* schema_v3 = R"SQL(
+CREATE INDEX attempts_state ON attempts(state, finished_at);
+)SQL";
+
 } // namespace
 
 const std::vector<const char*>& migrations() {
-  static const std::vector<const char*> m{schema_v1, schema_v2};
+  static const std::vector<const char*> m{schema_v1, schema_v2, schema_v3};
   return m;
 }
 

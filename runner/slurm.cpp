@@ -79,6 +79,28 @@ std::string trim(std::string s) {
   return s;
 }
 
+// Moves the contents of directory src into dest (created), replacing entries of the same name,
+// then removes src. Renames where possible; copies across file systems.
+void move_outputs(const fs::path& src, const fs::path& dest) {
+  std::error_code ec;
+  if (src.empty() || !fs::is_directory(src, ec) || fs::equivalent(src, dest, ec))
+    return;
+  fs::create_directories(dest, ec);
+  for (const auto& e : fs::directory_iterator(src, ec)) {
+    fs::path to = dest / e.path().filename();
+    std::error_code rc;
+    fs::remove_all(to, rc);
+    fs::rename(e.path(), to, rc);
+    if (rc) { // another file system: copy, then remove the source
+      fs::copy(e.path(), to, fs::copy_options::recursive | fs::copy_options::overwrite_existing,
+               rc);
+      if (!rc)
+        fs::remove_all(e.path(), rc);
+    }
+  }
+  fs::remove(src, ec); // only when empty
+}
+
 // Slurm's time limit in minutes for a task of n jobs: each job's limit plus a margin.
 int time_limit_minutes(std::optional<double> timeout_s, int n) {
   if (!timeout_s)
@@ -157,7 +179,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   {
     WriteTx tx(store.db());
     Stmt u = store.db().prepare(
-        "UPDATE jobs SET state='submitted', attempts=attempts+1, owner_host=?, owner_pid=NULL, "
+        "UPDATE jobs SET state='submitted', attempts=attempts+1, owner_host=?, owner_pid=?, "
         "heartbeat_at=?, updated_at=?, progress=NULL, slurm_job_id=NULL WHERE id=? AND "
         "state='pending' RETURNING attempts");
     Stmt a = store.db().prepare(
@@ -166,7 +188,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
     json task = json::array();
     double now = unix_now();
     for (const JobRow* row : todo) {
-      u.bind(1, host).bind(2, now).bind(3, now).bind(4, row->id);
+      u.bind(1, host).bind(2, pid).bind(3, now).bind(4, now).bind(5, row->id);
       if (!u.step()) {
         u.reset();
         continue;
@@ -177,10 +199,21 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
       a.bind(6, code_version()).bind(7, compiler_id()).run();
       const JobSpec& job = ex.jobs[row->ordinal];
       std::string stem = job.key + "." + std::to_string(attempt);
-      fs::path output_dir = db_dir / study.name / job.key;
+      // Outputs (HDF5 series, checkpoints) go to the shared directory the nodes see; ingestion
+      // moves a finished job's outputs to <db dir>/<study>/<key>, as a local run leaves them.
+      // Keyed by job, not by submission: a resubmitted job resumes from its checkpoint there.
+      fs::path output_dir = base / "outputs" / study.name / job.key;
       fs::create_directories(output_dir);
-      JobFileSpec spec{job.key, job.case_name,         job.scheme, job.params, opts.threads_per_job,
-                       attempt, output_dir.string(), "", 0, 600};
+      JobFileSpec spec{job.key,
+                       job.case_name,
+                       job.scheme,
+                       job.params,
+                       opts.threads_per_job,
+                       attempt,
+                       output_dir.string(),
+                       "",
+                       opts.checkpoint_every_steps,
+                       opts.checkpoint_every_s};
       write_file_atomic(dir / "specs" / (stem + ".spec.json"), spec_to_json(spec));
       task.push_back({{"key", job.key}, {"attempt", attempt}, {"stem", stem}});
       marked.emplace_back(row->id, attempt);
@@ -392,11 +425,46 @@ int run_slurm_task(const fs::path& manifest_path, int task) {
 
 IngestReport ingest_slurm(Store& store, std::ostream& out) {
   IngestReport rep;
+  {
+    // Jobs marked submitted by a `runner submit` that died before sbatch returned (or before it
+    // recorded the array id): no array will report them, so they go back to pending. The
+    // submitter is known dead when it ran on this host and its pid is gone; from another host,
+    // after an hour.
+    const std::string host = host_name();
+    const double now = unix_now();
+    std::vector<std::pair<std::int64_t, int>> orphans;
+    Stmt q = store.db().prepare("SELECT id, attempts, owner_host, owner_pid, updated_at FROM jobs "
+                                "WHERE state='submitted' AND slurm_job_id IS NULL");
+    while (q.step()) {
+      bool dead = q.text(2) == host && !q.is_null(3) &&
+                  static_cast<int>(q.integer(3)) != static_cast<int>(getpid()) &&
+                  !pid_alive(static_cast<int>(q.integer(3)));
+      if (dead || now - q.real(4) > 3600)
+        orphans.emplace_back(q.integer(0), static_cast<int>(q.integer(1)));
+    }
+    if (!orphans.empty()) {
+      WriteTx tx(store.db());
+      Stmt u = store.db().prepare("UPDATE jobs SET state='pending', owner_host=NULL, "
+                                  "owner_pid=NULL, heartbeat_at=NULL, updated_at=? WHERE id=? AND "
+                                  "state='submitted' AND slurm_job_id IS NULL AND attempts=?");
+      Stmt a = store.db().prepare(
+          "UPDATE attempts SET state='abandoned', failure_class='stale', finished_at=?, "
+          "error_text='abandoned: the runner submitting this job died before sbatch returned' "
+          "WHERE job_id=? AND attempt=? AND state='running'");
+      for (const auto& [id, attempt] : orphans) {
+        u.bind(1, now).bind(2, id).bind(3, attempt).run();
+        a.bind(1, now).bind(2, id).bind(3, attempt).run();
+      }
+      tx.commit();
+      rep.lost += orphans.size();
+    }
+  }
   struct Sub {
     std::int64_t id;
     std::string array_id;
     fs::path dir;
     std::optional<double> timeout;
+    std::string study;
   };
   std::vector<Sub> subs;
   {
@@ -405,13 +473,14 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
         "EXISTS (SELECT 1 FROM jobs j WHERE j.state='submitted' AND j.slurm_job_id LIKE "
         "s.slurm_job_id || '\\_%' ESCAPE '\\')");
     while (q.step())
-      subs.push_back({q.integer(0), q.text(1), q.text(2), std::nullopt});
+      subs.push_back({q.integer(0), q.text(1), q.text(2), std::nullopt, ""});
   }
   for (auto& sub : subs) {
     try {
       json m = json::parse(read_all(sub.dir / "manifest.json"));
       if (!m.at("timeout_s").is_null())
         sub.timeout = m.at("timeout_s").get<double>();
+      sub.study = m.value("study", "");
     } catch (...) {
     }
     // Is the array still queued or running? Asked before reading outcomes, so that a job whose
@@ -477,11 +546,26 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
       if (f.state != "done" && f.state != "diverged")
         f.error_text += "\n(full output: " + log.string() + ")";
       {
-        Stmt od = store.db().prepare("SELECT s.name FROM study_jobs sj JOIN studies s ON "
-                                     "s.id=sj.study_id WHERE sj.job_id=? LIMIT 1");
-        od.bind(1, j.id);
-        if (od.step()) {
-          fs::path d = fs::absolute(db_dir) / od.text(0) / j.key;
+        std::string study_name = sub.study;
+        if (study_name.empty()) {
+          Stmt od = store.db().prepare("SELECT s.name FROM study_jobs sj JOIN studies s ON "
+                                       "s.id=sj.study_id WHERE sj.job_id=? LIMIT 1");
+          od.bind(1, j.id);
+          if (od.step())
+            study_name = od.text(0);
+        }
+        fs::path src;
+        try {
+          src = json::parse(read_all(sub.dir / "specs" / (stem + ".spec.json")))
+                    .value("output_dir", std::string());
+        } catch (...) {
+        }
+        if (!study_name.empty()) {
+          fs::path d = fs::absolute(db_dir) / study_name / j.key;
+          // A finished job's outputs join the database's side; a failed one's stay in the
+          // shared directory, where its checkpoint awaits the resubmission.
+          if ((f.state == "done" || f.state == "diverged") && !src.empty())
+            move_outputs(src, d);
           if (fs::is_directory(d, ec) && !fs::is_empty(d, ec))
             f.output_dir = d.string();
           else

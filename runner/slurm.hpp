@@ -1,4 +1,4 @@
-// Running a study on a Slurm cluster as one job array (docs/slurm.md).
+// Running a study on a Slurm cluster as one job array (docs/runner.md, section "Slurm").
 //
 // `runner submit STUDY --slurm` freezes the study's pending jobs into a manifest (job-spec files
 // grouped into array tasks), marks them `submitted` and calls `sbatch --array=0-(n-1)%K` once.
@@ -38,6 +38,10 @@ struct SubmitOptions {
   bool wait = false;                     // poll and ingest until every submitted job is back
   double poll_s = 2;
   bool dry_run = false;                  // write the manifest and script, do not sbatch
+  // Checkpoint policy of each job (0: off), as for a local run; checkpoints live in the job's
+  // output directory under slurm_dir, so a resubmitted job resumes where its last task stopped.
+  std::int64_t checkpoint_every_steps = 0;
+  double checkpoint_every_s = 600;
 };
 
 int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out, std::ostream& err);

@@ -1,6 +1,8 @@
 // RAII wrappers over the SQLite C API.
 #include "sqlite.hpp"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <random>
 #include <thread>
@@ -97,6 +99,13 @@ Db::Db(const std::string& path, int flags) {
     throw SqliteError(msg, rc);
   }
   sqlite3_extended_result_codes(db_, 1);
+}
+
+Db Db::reader(const std::string& path) {
+  const bool writable = ::access(path.c_str(), W_OK) == 0;
+  Db db(path, writable ? SQLITE_OPEN_READWRITE : SQLITE_OPEN_READONLY);
+  db.exec("PRAGMA query_only=ON");
+  return db;
 }
 
 Db& Db::operator=(Db&& o) noexcept {

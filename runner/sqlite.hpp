@@ -72,6 +72,11 @@ public:
   // flags: SQLITE_OPEN_READONLY or SQLITE_OPEN_READWRITE|SQLITE_OPEN_CREATE (NOMUTEX is added:
   // a connection is used by one thread only).
   Db(const std::string& path, int flags);
+  // A connection that only reads (PRAGMA query_only). It is opened read-write when the file is
+  // writable: after a writer was killed (kill -9) the WAL index must be rebuilt by the next
+  // connection, which a SQLITE_OPEN_READONLY one cannot do ("attempt to write a readonly
+  // database"); a read-only file gets a read-only connection.
+  static Db reader(const std::string& path);
   Db(Db&& o) noexcept : db_(o.db_) { o.db_ = nullptr; }
   Db& operator=(Db&& o) noexcept;
   Db(const Db&) = delete;

@@ -75,7 +75,7 @@ struct StaleJob {
 
 class Store {
 public:
-  static constexpr int schema_version = 2;
+  static constexpr int schema_version = 3;
 
   // Creates the file (and its directory) if needed, migrates the schema, sets WAL.
   // Refuses a database on a network file system unless allow_network_fs (then no WAL).
@@ -135,6 +135,11 @@ private:
   Db db_;
   std::filesystem::path path_;
 };
+
+// The error text for a database file SQLite reports as corrupt (what: SQLite's words).
+// at_open: found before anything was written; otherwise in the middle of a command.
+std::string damaged_message(const std::filesystem::path& path, const std::string& what,
+                            bool at_open = true);
 
 // True when `dir` is on NFS, SMB/CIFS, Lustre, GPFS, BeeGFS, Ceph or FUSE (sshfs...).
 bool is_network_filesystem(const std::filesystem::path& dir, std::string* fs_name = nullptr);

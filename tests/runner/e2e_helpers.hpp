@@ -79,13 +79,13 @@ inline int wait_exit(pid_t pid) {
 }
 
 inline std::int64_t sql_int(const std::filesystem::path& db, const std::string& sql) {
-  Db d(db.string(), SQLITE_OPEN_READONLY);
+  Db d = Db::reader(db.string());
   sqlite3_busy_timeout(d.handle(), 5000);
   return d.scalar_int(sql);
 }
 
 inline std::string sql_text(const std::filesystem::path& db, const std::string& sql) {
-  Db d(db.string(), SQLITE_OPEN_READONLY);
+  Db d = Db::reader(db.string());
   sqlite3_busy_timeout(d.handle(), 5000);
   Stmt s = d.prepare(sql);
   std::string out;

@@ -2,7 +2,8 @@
 # End-to-end test of `runner submit --slurm` on a real single-node Slurm cluster started by
 # scripts/slurm/start_local_cluster.sh: a small patch_test study runs as a job array, its results
 # are ingested and must equal a local run of the same study; failed jobs are resubmitted alone;
-# a cancelled array's unfinished jobs come back as pending and are resubmitted alone.
+# a cancelled array's unfinished jobs come back as pending and are resubmitted alone; a
+# checkpointed job cancelled on Slurm resumes from its checkpoint and equals a local run.
 # Usage: slurm_e2e.sh RUNNER_EXE SOURCE_DIR. Exit 77 (skipped) when not root or Slurm is missing.
 set -euo pipefail
 RUNNER=$1
@@ -95,5 +96,41 @@ timeout 300 "$RUNNER" submit s.toml --slurm --wait --db slurm/results.sqlite | t
 grep -q "submitted 2 jobs" submit4.log || fail "only the 2 unfinished jobs are resubmitted"
 [[ $(q slurm/results.sqlite "SELECT count(*) FROM jobs WHERE state='done'") == 8 ]] || fail "8 done"
 [[ $(q slurm/results.sqlite "SELECT count(*) FROM attempts WHERE state='done'") == 8 ]] || fail "one done attempt per job"
+
+# 6. A long job cancelled mid-way on Slurm resumes from its checkpoint (kept in the shared Slurm
+#    directory) when resubmitted, and its result equals an uninterrupted local run's, bit for bit.
+#    step_sleep_us (40 ms per step on Slurm) is not part of the job key: both runs are one job.
+cat > ck.toml <<'TOML'
+[study]
+name = "slurm_ckpt"
+case = "checkpoint_demo"
+[params]
+steps = 200
+step_sleep_us = 20000
+TOML
+sed 's/step_sleep_us = 20000/step_sleep_us = 0/' ck.toml > ck_fast.toml
+"$RUNNER" ck_fast.toml --db local/results.sqlite >>local.log 2>&1 || { cat local.log; fail "local checkpoint run"; }
+"$RUNNER" submit ck.toml --slurm --checkpoint-every-steps 20 --db slurm/results.sqlite | tee submit5.log
+array=$(sed -n 's/.*as Slurm array \([0-9]*\).*/\1/p' submit5.log)
+[[ -n "$array" ]] || fail "checkpoint submission"
+key=$(q slurm/results.sqlite "SELECT key FROM jobs WHERE case_name='checkpoint_demo'")
+ckpt=slurm/slurm/outputs/slurm_ckpt/$key/checkpoint.h5
+for _ in $(seq 150); do [[ -f $ckpt ]] && break; sleep 0.1; done
+[[ -f $ckpt ]] || fail "no checkpoint in the shared directory ($ckpt)"
+scancel "$array"
+for _ in $(seq 100); do
+  [[ -z "$(squeue -h -r -j "$array" 2>/dev/null)" ]] && break
+  sleep 0.2
+done
+"$RUNNER" ingest --db slurm/results.sqlite
+[[ $(q slurm/results.sqlite "SELECT state FROM jobs WHERE key='$key'") == pending ]] || fail "cancelled job pending again"
+timeout 300 "$RUNNER" submit ck.toml --slurm --checkpoint-every-steps 20 --wait --db slurm/results.sqlite | tee submit6.log
+[[ $(q slurm/results.sqlite "SELECT count(*) FROM attempts a JOIN jobs j ON j.id=a.job_id WHERE j.key='$key' AND a.state='done' AND a.attempt=2 AND a.message LIKE 'resumed from step %'") == 1 ]] \
+  || { q slurm/results.sqlite "SELECT attempt, state, message, error_text FROM attempts a JOIN jobs j ON j.id=a.job_id WHERE j.key='$key'"; fail "resumed from the checkpoint"; }
+ckm() { q "$1" "SELECT metric, value FROM job_metrics WHERE study='slurm_ckpt' ORDER BY metric"; }
+diff <(ckm local/results.sqlite) <(ckm slurm/results.sqlite) || fail "resumed Slurm job differs from the uninterrupted local run"
+[[ $(ckm slurm/results.sqlite | wc -l) == 5 ]] || fail "checkpoint_demo metrics"
+echo "checkpointed job cancelled on Slurm, resumed ($(q slurm/results.sqlite "SELECT message FROM attempts WHERE state='done' AND message LIKE 'resumed%'")): metrics equal the local run's"
+
 [[ $(q slurm/results.sqlite "PRAGMA integrity_check") == ok ]] || fail "integrity"
 echo "PASS: Slurm end to end in $(($(date +%s) - t0)) s"

@@ -149,3 +149,35 @@ n_side = [8, 9, 10, 11, 12]
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts"), 9);
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM jobs WHERE state='done'"), 5);
 }
+
+// Seeing what happens: the live line on request (a terminal by default) and plain progress lines
+// otherwise, both with the running jobs' simulated-time fractions and an ETA.
+TEST(Progress, LiveLineAndPlainLogLinesShowRunningFractionsAndEta) {
+  TempDir dir;
+  // Jobs of 300 steps x 4 ms = 1.2 s each (step_sleep_us is not part of the job key).
+  auto study = [](const std::string& alphas) {
+    return "[study]\nname = \"prog\"\ncase = \"checkpoint_demo\"\n[params]\nsteps = 300\n"
+           "step_sleep_us = 4000\n[sweep]\nalpha = [" +
+           alphas + "]\n";
+  };
+  write_text(dir / "s.toml", study("0.25, 0.5"));
+  auto plain = run_runner(dir, "s.toml -j 2 --progress plain --log-every-s 0.3");
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  EXPECT_EQ(plain.out.find('\r'), std::string::npos) << plain.out;
+  EXPECT_CONTAINS(plain.out, "progress: [0/2] running 2, failed 0, diverged 0, elapsed ");
+  EXPECT_CONTAINS(plain.out, "%, "); // the two jobs' fractions
+  EXPECT_CONTAINS(plain.out, "[1/2] done ");
+  EXPECT_CONTAINS(plain.out, "[2/2] done ");
+
+  // One more value: the new job runs alone, with a live line whose ETA comes from the job times
+  // measured by the first run.
+  write_text(dir / "s.toml", study("0.25, 0.5, 0.75"));
+  auto live = run_runner(dir, "s.toml -j 2 --progress live");
+  ASSERT_EQ(live.code, 0) << live.out;
+  EXPECT_CONTAINS(live.out, "\r\033[K[0/1] running 1, failed 0, diverged 0, elapsed ");
+  EXPECT_CONTAINS(live.out, "%");
+  EXPECT_CONTAINS(live.out, " | ");
+  EXPECT_EQ(live.out.find("ETA ?"), std::string::npos) << live.out;
+  EXPECT_EQ(live.out.find("[1/1] done"), std::string::npos); // done jobs only update the line
+  EXPECT_CONTAINS(live.out, "prog: 3 jobs: 3 done");
+}

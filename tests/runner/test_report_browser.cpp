@@ -2,13 +2,15 @@
 // report, opens the page in headless Chromium with tests/browser/check_report.js attached, and
 // checks what the browser saw: the page loads, every image loads (naturalWidth > 0), and every
 // number in the figures' tables equals the database's (compared with `runner query`).
-// Skipped, with a message, only when chromium or gnuplot is not installed.
+// Also checks `runner status` and `runner table` on that database. The browser part is skipped,
+// with a message, only when chromium or gnuplot is not installed.
 #include "helpers.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -71,11 +73,6 @@ std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
 } // namespace
 
 TEST(ReportBrowser, QuickTierPageLoadsWithItsImagesAndTheDatabaseNumbers) {
-  if (sh("command -v chromium > /dev/null 2>&1") != 0)
-    GTEST_SKIP() << "chromium is not installed (Debian package chromium): browser test skipped";
-  if (sh("command -v gnuplot > /dev/null 2>&1") != 0)
-    GTEST_SKIP() << "gnuplot is not installed (Debian package gnuplot-nox): browser test skipped";
-
   TempDir dir;
   const fs::path study = source_dir() / "studies" / "visc_patch.toml";
   const std::string runner = RUNNER_EXE;
@@ -84,11 +81,35 @@ TEST(ReportBrowser, QuickTierPageLoadsWithItsImagesAndTheDatabaseNumbers) {
                (dir / "run.txt").string() + "' 2>&1"),
             0)
       << read_file(dir / "run.txt");
+  // The default study's status and pivot (issue 7: "runner status and runner table work on the
+  // default study").
+  ASSERT_EQ(sh("'" + runner + "' status visc_patch --db '" + db + "' > '" +
+               (dir / "status.txt").string() + "' 2>&1"),
+            0);
+  EXPECT_NE(
+      read_file(dir / "status.txt").find("visc_patch               quick         24        0"),
+      std::string::npos)
+      << read_file(dir / "status.txt");
+  ASSERT_EQ(sh("'" + runner +
+               "' table visc_patch --rows n_side --cols visc --value err --where "
+               "lattice=uniform --format csv --db '" +
+               db + "' > '" + (dir / "table.txt").string() + "' 2>&1"),
+            0)
+      << read_file(dir / "table.txt");
+  const std::string table = read_file(dir / "table.txt");
+  EXPECT_EQ(table.substr(0, table.find('\n')), "n_side \\ visc,visc01,visc02,visc03,visc04");
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 3); // header, N = 20, N = 40
+
   const fs::path out = dir / "report";
   ASSERT_EQ(sh("'" + runner + "' report '" + study.string() + "' --db '" + db + "' --out '" +
                out.string() + "' > '" + (dir / "report.txt").string() + "' 2>&1"),
             0)
       << read_file(dir / "report.txt");
+
+  if (sh("command -v chromium > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "chromium is not installed (Debian package chromium): browser check skipped";
+  if (sh("command -v gnuplot > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "gnuplot is not installed (Debian package gnuplot-nox): browser check skipped";
 
   // The page as shipped plus the check script (kept out of the product's page).
   std::string page = read_file(out / "index.html");

@@ -2,12 +2,16 @@
 // finishing (metrics and state together), stale-job recovery, retries.
 #include "expand.hpp"
 #include "helpers.hpp"
+#include "provenance.hpp"
 #include "schema.hpp"
+#include "slurm.hpp"
 #include "store.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
+#include <sys/wait.h>
 #include <unistd.h>
 
 using namespace sph::runner;
@@ -235,4 +239,42 @@ TEST(Store, RetryFailedRespectsMaxAttempts) {
     EXPECT_EQ(s.jobs[0].state, k == 0 ? "pending" : "failed");
     EXPECT_EQ(s.exhausted, k == 0 ? 0u : 1u);
   }
+}
+
+// A `runner submit` killed between marking its jobs submitted and recording the array id leaves
+// jobs no array will report: the next ingestion puts them back to pending (attempt kept as stale).
+TEST(Store, JobsOfASubmitterThatDiedBeforeSbatchGoBackToPending) {
+  TempDir dir;
+  auto store = Store::open_write(dir / "r.sqlite");
+  auto r = store.sync_study(record(), "full", small_expansion(3).jobs, false, 3, unix_now());
+  pid_t dead = fork();
+  if (dead == 0)
+    _exit(0);
+  waitpid(dead, nullptr, 0);
+  const std::string host = host_name();
+  double now = unix_now();
+  auto mark = [&](std::int64_t id, int pid, const char* array_id) {
+    Stmt u = store.db().prepare("UPDATE jobs SET state='submitted', attempts=1, owner_host=?, "
+                                "owner_pid=?, updated_at=?, slurm_job_id=? WHERE id=?");
+    u.bind(1, host).bind(2, pid).bind(3, now).bind(5, id);
+    if (array_id)
+      u.bind(4, std::string(array_id));
+    else
+      u.bind_null(4);
+    u.run();
+    Stmt a = store.db().prepare("INSERT INTO attempts(job_id, attempt, state, started_at, host, "
+                                "pid, threads, code_version, compiler) VALUES(?,1,'running',?,"
+                                "'slurm',?,1,'v','c')");
+    a.bind(1, id).bind(2, now).bind(3, pid).run();
+  };
+  mark(r.jobs[0].id, static_cast<int>(dead), nullptr);      // submitter gone: orphan
+  mark(r.jobs[1].id, static_cast<int>(getppid()), nullptr); // submitter alive: still submitting
+  std::ostringstream out;
+  IngestReport rep = ingest_slurm(store, out);
+  EXPECT_EQ(rep.lost, 1u);
+  EXPECT_EQ(state_of(store, r.jobs[0].id), "pending");
+  EXPECT_EQ(state_of(store, r.jobs[1].id), "submitted");
+  EXPECT_EQ(store.db().scalar_int("SELECT count(*) FROM attempts WHERE state='abandoned' AND "
+                                  "failure_class='stale' AND error_text LIKE '%before sbatch%'"),
+            1);
 }
