@@ -1,17 +1,22 @@
 // Geometry, parameters and run loop of the cavity cases (see cavity.hpp).
 //
-// Run loop (scheme-independent part): advance until t_end, or until the flow is steady:
-// every steady_window the kinetic energy E_k is compared with its value one window earlier and
-// the run stops when |dE_k| / E_k < steady_tol (recorded: t_stop, steady = 1). Diverged when a
+// Run loop (scheme-independent part): advance until t_end, or until the flow is steady: the
+// kinetic energy E_k is averaged over each window of steady_window time units (every step), and
+// the run stops when two consecutive window means differ by less than steady_tol times the last
+// (recorded: t_stop, steady = 1). The window mean, not E_k at one instant, because particle
+// disorder makes E_k flicker by a few 1e-3 at a steady state (measured: +-0.3 % at Re = 100,
+// dx = 0.02), which an instantaneous comparison would never see settle. Diverged when a
 // velocity is not finite or exceeds 20 U0. At the end the centreline profiles and metrics of
 // diagnostics/cavity_profiles.hpp are computed; with an output directory the HDF5 file
 // <output_dir>/<case>.h5 holds the E_k history, the fine-line profiles and the final fields.
 //
 // Metrics besides the profiles: ke, div_max (max |div u| of the final velocity, eq. 4, fluid
-// particles), t_stop, steady, steps, wall_time_s, time_per_step_s, ppe_assembly_s_per_step,
-// ppe_solve_s_per_step, ppe_share (assembly + solve over the step), ppe_iters_mean,
-// ppe_residual (relative residual of the last solve), wall_clearance_corrections (see isph.hpp),
-// n_particles, n_fluid.
+// particles) and its position div_max_x, div_max_y, div_rms (RMS over the fluid), t_stop,
+// steady, steps, wall_time_s, time_per_step_s (wall clock), cpu_time_per_step_s (process CPU
+// time of the time loop over its steps: the honest cost on a shared machine, where wall time
+// also counts the other processes), ppe_assembly_s_per_step, ppe_solve_s_per_step, ppe_share
+// (assembly + solve over the step, wall clock), ppe_iters_mean, ppe_residual (relative residual
+// of the last solve), wall_clearance_corrections (see isph.hpp), n_particles, n_fluid.
 #include "cases/cavity.hpp"
 
 #include "core/kernels/kernel.hpp"
@@ -22,6 +27,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <omp.h>
 #include <stdexcept>
 
@@ -65,10 +71,17 @@ std::vector<ParamSpec> cavity_params(bool cylinder) {
       {"dx", ParamType::Real, 0.01, "particle spacing (1/dx must be an integer)", 0.0, 0.25, true},
       {"dt", ParamType::Real, 0.001, "time step", 0.0, {}, true},
       {"t_end", ParamType::Real, 40.0, "end time unless steady earlier", 0.0, {}, true},
-      {"steady_tol", ParamType::Real, 1e-4,
-       "stop when |E_k(t) - E_k(t - steady_window)| / E_k < steady_tol (0: run to t_end)", 0.0,
-       1.0},
-      {"steady_window", ParamType::Real, 1.0, "time between steady-state checks", 0.0, {}, true},
+      {"steady_tol", ParamType::Real, 5e-4,
+       "stop when the means of E_k over two consecutive windows differ by less than steady_tol "
+       "times the last (0: run to t_end)",
+       0.0, 1.0},
+      {"steady_window",
+       ParamType::Real,
+       2.0,
+       "length of the E_k averaging window (time)",
+       0.0,
+       {},
+       true},
       {"output_interval",
        ParamType::Real,
        0.1,
@@ -116,9 +129,10 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   const long n_steps = static_cast<long>(std::ceil(t_end / dt - 1e-9));
   const long out_every = std::max(1L, std::lround(out_dt / dt));
   const long steady_every = std::max(1L, std::lround(window / dt));
-  double ke_prev = -1.0, t = 0.0;
+  double ke_prev = -1.0, ke_sum = 0.0, t = 0.0;
   bool steady = false;
   long n = 0;
+  const std::clock_t cpu0 = std::clock();
   for (n = 0; n < n_steps; ++n) {
     if (ctx.cancelled()) {
       res.status = RunStatus::Cancelled;
@@ -151,8 +165,10 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
       h_it.push_back(solver.last_iterations());
       ctx.report(t / t_end);
     }
+    ke_sum += kinetic_energy(p);
     if ((n + 1) % steady_every == 0) {
-      const double ke = kinetic_energy(p);
+      const double ke = ke_sum / static_cast<double>(steady_every);
+      ke_sum = 0.0;
       if (steady_tol > 0.0 && ke_prev > 0.0 && std::abs(ke - ke_prev) < steady_tol * ke) {
         steady = true;
         ++n;
@@ -161,8 +177,11 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
       ke_prev = ke;
     }
   }
+  const double cpu_loop = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   // Final divergence of the last step's velocity (measured on the configuration it was made on).
   double div_max = solver.div_max();
+  const double div_rms = solver.div_rms();
+  const Vec2 div_at = solver.div_argmax();
   if (!(h_t.size() && h_t.back() == t)) {
     h_t.push_back(t), h_ke.push_back(kinetic_energy(p)), h_div.push_back(div_max);
     h_it.push_back(solver.last_iterations());
@@ -172,18 +191,22 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   const double R = 0.5 * g.cylinder_d;
   auto use = [&](std::size_t) { return true; };
   auto in_solid = [&](const Vec2& x) { return R > 0.0 && (x - Vec2(0.5, 0.5)).norm() < R; };
-  const bool ghia = !cylinder && std::abs(Re - 1000.0) < 1e-9;
+  const data::GhiaTable ghia = cylinder ? data::GhiaTable{} : data::ghia_table(Re);
   CavityProfiles prof = cavity_profile_metrics(p, kernel, use, in_solid, ghia, res);
 
   const double wall = std::chrono::duration<double>(clock::now() - t_start).count();
   const double steps = static_cast<double>(solver.steps());
   res.add("ke", kinetic_energy(p));
   res.add("div_max", div_max);
+  res.add("div_max_x", div_at.x());
+  res.add("div_max_y", div_at.y());
+  res.add("div_rms", div_rms);
   res.add("t_stop", t);
   res.add("steady", steady ? 1.0 : 0.0);
   res.add("steps", steps);
   res.add("wall_time_s", wall);
   res.add("time_per_step_s", solver.time_step() / steps);
+  res.add("cpu_time_per_step_s", cpu_loop / steps);
   res.add("ppe_assembly_s_per_step", solver.time_assemble() / steps);
   res.add("ppe_solve_s_per_step", solver.time_solve() / steps);
   res.add("ppe_share", (solver.time_assemble() + solver.time_solve()) / solver.time_step());

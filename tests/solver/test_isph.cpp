@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace sph;
@@ -178,4 +179,21 @@ TEST(LidDrivenCavity, ShortRunRecordsProfileMetrics) {
   for (const auto& [k, v] : r.metrics)
     n_ux += k.rfind("ux_at_y_", 0) == 0;
   EXPECT_EQ(n_ux, 17);
+  // Re = 100 has Ghia's column: the errors are recorded (|ux_min - (-0.21090)| by definition).
+  EXPECT_NEAR(metric(r, "ux_min_err"), std::abs(metric(r, "ux_min") + 0.21090), 1e-12);
+  EXPECT_GT(metric(r, "ux_rms_err"), 0.0);
+  EXPECT_GT(metric(r, "cpu_time_per_step_s"), 0.0);
+  EXPECT_GE(metric(r, "div_max"), metric(r, "div_rms"));
+}
+
+// Ghia's columns: Re = 100 and 1000 only, and their minima are the minima of the tables.
+TEST(Ghia, TablesAndMinima) {
+  for (double Re : {100.0, 1000.0}) {
+    const auto t = data::ghia_table(Re);
+    ASSERT_TRUE(t.u && t.v);
+    EXPECT_EQ(*std::min_element(t.u->begin(), t.u->end()), t.u_min);
+    EXPECT_EQ((*t.u)[0], 1.0);
+    EXPECT_EQ((*t.v)[0], 0.0);
+  }
+  EXPECT_EQ(data::ghia_table(400.0).u, nullptr);
 }

@@ -282,11 +282,17 @@ public:
     if (measure_div_) {
       isph_ops::Divergence<D> dn{p_.V, unew_, div_};
       interact(nl_, dn, fluid);
-      double m = 0.0;
-      for (std::size_t i = 0; i < N; ++i)
-        if (fluid(i) && std::abs(div_[i]) > m)
+      double m = 0.0, s2 = 0.0;
+      std::size_t nf = 0;
+      for (std::size_t i = 0; i < N; ++i) {
+        if (!fluid(i))
+          continue;
+        s2 += div_[i] * div_[i], ++nf;
+        if (std::abs(div_[i]) > m)
           m = std::abs(div_[i]), div_argmax_ = p_.r[i];
+      }
       div_max_ = m;
+      div_rms_ = nf ? std::sqrt(s2 / static_cast<double>(nf)) : 0.0;
     }
     for (std::size_t i = 0; i < N; ++i)
       if (!fluid(i))
@@ -339,6 +345,9 @@ public:
   double div_max() const {
     return div_max_;
   } // max |div u_{t+dt}| of the last measured step
+  double div_rms() const {
+    return div_rms_;
+  } // RMS of div u_{t+dt} over the fluid, same step
   const Vec<D>& div_argmax() const {
     return div_argmax_;
   }
@@ -394,7 +403,7 @@ private:
   std::vector<Vec<D>> lapv_, ustar_, umove_, unew_, dr_;
   std::vector<Mat<D>> gradu_;
   bool measure_div_ = false;
-  double div_max_ = 0.0;
+  double div_max_ = 0.0, div_rms_ = 0.0;
   Vec<D> div_argmax_ = Vec<D>::Zero();
   int last_iters_ = 0;
   long steps_ = 0, iters_total_ = 0, clearance_corrections_ = 0;
