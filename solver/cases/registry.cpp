@@ -11,6 +11,7 @@ CaseInfo make_lid_driven_cavity_case();
 CaseInfo make_cavity_cylinder_case();
 CaseInfo make_cylinder_channel_case();
 CaseInfo make_checkpoint_demo_case();
+CaseInfo make_taylor_green_case();
 
 const std::vector<CaseInfo>& case_registry() {
   static const std::vector<CaseInfo> cases{
@@ -20,6 +21,7 @@ const std::vector<CaseInfo>& case_registry() {
       make_cavity_cylinder_case(),
       make_cylinder_channel_case(),
       make_checkpoint_demo_case(),
+      make_taylor_green_case(),
   };
   return cases;
 }

@@ -7,12 +7,14 @@ namespace sph {
 SchemeInfo make_contact_scheme();
 SchemeInfo make_isph_scheme();
 SchemeInfo make_alsph_scheme();
+SchemeInfo make_wcsph_tvf_scheme();
 
 const std::vector<SchemeInfo>& scheme_registry() {
   static const std::vector<SchemeInfo> schemes{
       make_contact_scheme(),
       make_isph_scheme(),
       make_alsph_scheme(),
+      make_wcsph_tvf_scheme(),
   };
   return schemes;
 }

@@ -1,0 +1,596 @@
+// Scheme "wcsph_tvf": weakly-compressible SPH with the linearised Riemann solver, dual-criteria
+// time stepping and the transport-velocity correction with its limiter (seed 002: Wang, Haidn &
+// Hu, "The efficient implementation of transport velocity formulation", arXiv:2411.13992).
+// The seed's text lost its equations; they are rebuilt from the authors' code (SPHinXsys) in
+// ../shared/notes/tvf_equations.md, whose section numbers are cited below as [notes 2b] etc.
+// docs/tvf.md states every equation implemented here and where we depart from SPHinXsys.
+//
+// Conventions [notes 1]: e_ij = r_ij / |r_ij| with r_ij = r_i - r_j (points from j to i),
+// dW_ij = dW/dr <= 0, grad_i W_ij = dW_ij e_ij. V_i = m_i / rho_i is set by the density
+// summation once per advection step and frozen during the acoustic sub-steps, like the pair
+// geometry (W_ij, dW_ij, e_ij come from the neighbour list built at the end of the previous
+// advection step).
+//
+// Per advection step of size Dt (stage_names()):
+//   density_summation  rho_i = rho0 sum_j W_ij / sigma0 (self term included; sigma0 = sum W on
+//                      the perfect lattice), V_i = m_i / rho_i                 (eq. 8) [notes 3]
+//   correction_matrix  (kernel_correction only) B_i = [sum_j V_j grad_i W_ij (x) (r_j - r_i)]^-1
+//   viscous_force      F^nu_i = V_i sum_j 2 mu (v_i - v_j) / (r_ij + 0.01 h) V_j dW_ij [notes 2d]
+//   transport          tvf = smoothing_length / limited (eqs. 14-16) [notes 5]:
+//                        g_i  = -sum_j (B_i + B_j) V_j dW_ij e_ij     (B = I without correction)
+//                        psi_i = min(kappa h^2 |g_i|^2, 1) (limited), 1 (smoothing_length)
+//                        r_i += alpha h^2 psi_i g_i,   alpha = 0.2, kappa = 100
+//                      tvf = original (Adami, Hu & Adams 2013, eq. 13; eq. 12 of seed 002):
+//                        a~_i = -(p_b / m_i) sum_j (V_i^2 + V_j^2) dW_ij e_ij, p_b = f_pb rho0
+//                        c0^2, used by the kick-drift-kick transport of every acoustic sub-step
+//                        below
+//   acoustic           sub-steps dt = min(Dt_ac, Dt - tau) until tau = Dt, position Verlet
+//                      [notes 4]:
+//     1st half: rho_i += dt/2 drho_i; p_i = c0^2 (rho_i - rho0); r_i += dt/2 vt_i
+//               F^p_i = -V_i sum_j (p_i B_j + p_j B_i) V_j dW_ij e_ij  (Riemann P* mean part)
+//               drho_i = rho_i sum_j (p_i - p_j) / (rho0 c0) V_j dW_ij (Riemann U* jump part)
+//               v_i += dt (F_prior_i + F^p_i + F^diss_i) / m_i   (F^diss from the last 2nd half)
+//     2nd half: r_i += dt/2 vt_i
+//               drho_i += rho_i sum_j u_ij V_j dW_ij,  u_ij = (v_i - v_j) . e_ij   (continuity)
+//               F^diss_i = V_i sum_j rho0 c0 beta_ij u_ij V_j dW_ij e_ij  (Riemann P* jump part)
+//               rho_i += dt/2 drho_i
+//     with the dissipation limiter (eq. 6; Zhang, Hu & Adams 2017):
+//       beta_ij = min(3 max(s u_ij, 0) / c0, 1)   limited; s = +1 "expansion" (SPHinXsys master),
+//                                                  s = -1 "compression" (Zhang 2017) [notes 2b]
+//       beta_ij = 1 (full, no limiter) or 0 (none: central 2nd half, SPHinXsys' Taylor-Green)
+//     vt_i = v_i, or v_i + dt/2 a~_i for tvf = original (Adami's transport velocity at the half
+//     step, so each sub-step moves the particle by an extra dt^2/2 a~_i), whose momentum equation
+//     also gets the extra stress A = rho v (x) (vt - v):  F^A_i = -V_i sum_j V_j (A_i + A_j) .
+//     grad_i W_ij
+//   neighbours         wrap periodic axes, sort by cell, rebuild the neighbour list.
+// Time steps (eqs. 9-11) [notes 4]:
+//   Dt_ad = cfl_ad h / max(sqrt(max_i max(|v_i|^2, 4 h |F^diss_i + F_prior_i| / m_i)), U_ref, nu/h)
+//   Dt_ac = cfl_ac h / max_i (c0 + |v_i|),  cfl_ad = 0.25, cfl_ac = 0.6.
+//
+// Walls (Kind::Wall particles with a prescribed velocity field, e.g. the cavity) [notes 2c]:
+// counted in the density summation; in the 1st half with p_w = p_i + rho_i |r_iw|
+// max(0, (F_prior_i / m_i) . (-e_iw)); in the continuity, dissipation and viscous force with
+// v_w* = 2 v_wall - v_i. Wall particles are not integrated. (The dissipation at walls uses e_iw
+// where SPHinXsys uses the wall normal.)
+//
+// The transport-velocity magnitude of the over-correction indicator (seed 002, Fig. 1) is
+// |Delta r^tvf_i| / Dt: the shift the correction adds in one advection step over that step.
+#pragma once
+
+#include "core/cell_list.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/particles.hpp"
+#include "operators/correction_matrix.hpp"
+#include "operators/interact.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sph::wcsph_tvf {
+
+enum class Tvf { None, Original, SmoothingLength, Limited };
+enum class Dissipation { Limited, Full, None };
+enum class LimiterSign { Expansion, Compression };
+
+struct Options {
+  Tvf tvf = Tvf::Limited;
+  Dissipation dissipation = Dissipation::Limited;
+  LimiterSign sign = LimiterSign::Expansion;
+  bool kernel_correction = false;
+  double rho0 = 1.0;         // reference density
+  double c0 = 10.0;          // artificial sound speed (10 U_ref)
+  double mu = 0.01;          // dynamic viscosity
+  double U_ref = 1.0;        // reference speed of the advection criterion
+  double h = 0.013;          // smoothing length (1.3 dx)
+  double dx = 0.01;          // lattice spacing (sigma0, particle volume)
+  double cfl_ad = 0.25;      // advection CFL (eq. 9)
+  double cfl_ac = 0.6;       // acoustic CFL (eq. 11)
+  double limiter_eta = 3.0;  // slope of the dissipation limiter (eq. 6)
+  double tvf_alpha = 0.2;    // coefficient of eq. (14)
+  double tvf_kappa = 100.0;  // slope of the limiter, eq. (15)
+  double pb_factor = 1.0;    // original TVF: p_b = pb_factor rho0 c0^2
+  double viscous_eps = 0.01; // r_ij + eps h in the viscous force
+};
+
+// Per-particle fields that must follow the particles through the cell sort.
+struct Fields {
+  int drho = -1;   // d rho / dt of the last half step (used by the next 1st half)
+  int f_diss = -1; // Riemann dissipation force of the last 2nd half
+  int v_wall = -1; // prescribed velocity of wall particles (may be -1: no walls)
+  template <int D>
+  static Fields add_to(Particles<D>& p, int v_wall = -1) {
+    Fields f;
+    f.drho = p.add_scalar("drho_dt");
+    f.f_diss = p.add_vector("force_dissipation");
+    f.v_wall = v_wall;
+    return f;
+  }
+};
+
+// Sum_j W_ij (self term included) over a perfect lattice of spacing dx: sigma0 of eq. (8).
+template <int D, class K>
+double lattice_number_density(const K& kernel, double dx) {
+  const int n = static_cast<int>(std::ceil(kernel.support() / dx)) + 1;
+  double s = 0.0;
+  std::array<int, D> i;
+  i.fill(-n);
+  while (true) {
+    double r2 = 0.0;
+    for (int a = 0; a < D; ++a)
+      r2 += (i[a] * dx) * (i[a] * dx);
+    s += kernel.W(std::sqrt(r2));
+    int a = 0;
+    while (a < D && ++i[a] > n)
+      i[a] = -n, ++a;
+    if (a == D)
+      break;
+  }
+  return s;
+}
+
+// Dissipation limiter of the momentum Riemann jump (eq. 6): beta_ij for u_ij = (v_i - v_j).e_ij.
+inline double dissipation_beta(const Options& o, double u) {
+  switch (o.dissipation) {
+  case Dissipation::None:
+    return 0.0;
+  case Dissipation::Full:
+    return 1.0;
+  case Dissipation::Limited:
+  default: {
+    const double s = o.sign == LimiterSign::Expansion ? u : -u;
+    return std::min(o.limiter_eta * std::max(s, 0.0) / o.c0, 1.0);
+  }
+  }
+}
+
+// Limiter of the transport-velocity correction, eq. (15): psi = min(kappa h^2 |g|^2, 1).
+inline double tvf_limiter(double kappa, double h, double g2) {
+  return std::min(kappa * h * h * g2, 1.0);
+}
+
+namespace ops {
+
+// Density reinitialisation (eq. 8): rho_i = rho0 (sum_j W_ij) / sigma0, V_i = m_i / rho_i.
+template <int D>
+struct DensitySummation {
+  Particles<D>& p;
+  double W0, rho0, sigma0;
+  std::vector<double>& sumW;
+
+  struct Acc {
+    double w;
+  };
+  Acc init(std::size_t) const { return {W0}; }
+  void pair(std::size_t, const Pair<D>& q, Acc& a) const { a.w += q.W; }
+  void finish(std::size_t i, const Acc& a) {
+    sumW[i] = a.w;
+    p.rho[i] = rho0 * a.w / sigma0;
+    p.V[i] = p.m[i] / p.rho[i];
+  }
+};
+
+// Velocity of partner j as particle i sees it: v_j for fluid, 2 v_wall - v_i for a wall.
+template <int D>
+inline Vec<D> partner_velocity(const Particles<D>& p, const Vec<D>* v_wall, std::size_t i,
+                               std::uint32_t j) {
+  if (v_wall && p.kind[j] == Kind::Wall)
+    return 2.0 * v_wall[j] - p.v[i];
+  return p.v[j];
+}
+
+// Viscous force F^nu_i = V_i sum_j 2 mu (v_i - v_j) / (r_ij + eps h) V_j dW_ij [notes 2d].
+template <int D>
+struct ViscousForce {
+  const Particles<D>& p;
+  const Vec<D>* v_wall;
+  double mu, eps_h;
+  std::vector<Vec<D>>& f_prior;
+
+  struct Acc {
+    Vec<D> f = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    const Vec<D> vj = partner_velocity(p, v_wall, i, q.j);
+    a.f += (2.0 * mu * p.V[q.j] * q.dW / (q.r + eps_h)) * (p.v[i] - vj);
+  }
+  void finish(std::size_t i, const Acc& a) { f_prior[i] = p.V[i] * a.f; }
+};
+
+// Zero-order consistency residue (eq. 14): g_i = -sum_j (B_i + B_j) V_j dW_ij e_ij (fluid
+// partners), -sum_w 2 B_i V_w dW_iw e_iw (walls); B = I without kernel correction.
+template <int D>
+struct TvfResidue {
+  const Particles<D>& p;
+  const std::vector<Mat<D>>* B; // nullptr: identity
+  std::vector<Vec<D>>& g;
+
+  struct Acc {
+    Vec<D> g = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    const Vec<D> gw = (p.V[q.j] * q.dW / q.r) * q.r_ij; // V_j grad_i W_ij
+    if (!B)
+      a.g -= 2.0 * gw;
+    else if (p.kind[q.j] == Kind::Wall)
+      a.g -= 2.0 * ((*B)[i] * gw);
+    else
+      a.g -= ((*B)[i] + (*B)[q.j]) * gw;
+  }
+  void finish(std::size_t i, const Acc& a) { g[i] = a.g; }
+};
+
+// Background-pressure acceleration of the original TVF (Adami et al. 2013, eq. 13):
+// a~_i = -(p_b / m_i) sum_j (V_i^2 + V_j^2) dW_ij e_ij.
+template <int D>
+struct BackgroundPressure {
+  const Particles<D>& p;
+  double pb;
+  std::vector<Vec<D>>& a_tilde;
+
+  struct Acc {
+    Vec<D> a = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    const double Vi = p.V[i], Vj = p.V[q.j];
+    a.a -= ((Vi * Vi + Vj * Vj) * q.dW / q.r) * q.r_ij;
+  }
+  void finish(std::size_t i, const Acc& a) { a_tilde[i] = (pb / p.m[i]) * a.a; }
+};
+
+// 1st half (Integration1stHalf, Riemann): pressure force F^p (mean part of P*), the density
+// dissipation (jump part of U*), and for tvf = original Adami's extra stress with
+// dv_i = vt_i - v_i = dt/2 a~_i.
+template <int D>
+struct FirstHalf {
+  const Particles<D>& p;
+  const std::vector<Mat<D>>* B;       // nullptr: identity
+  const std::vector<Vec<D>>& f_prior; // for the wall pressure extrapolation
+  const std::vector<Vec<D>>* a_tilde; // nullptr unless tvf = original
+  double half_dt;                     // dt / 2 (transport-velocity increment of a~)
+  double inv_rho0c0;
+  std::vector<Vec<D>>& force; // out: F^p (+ F^A)
+  std::vector<double>& drho;  // out: drho/dt (assigned)
+
+  struct Acc {
+    Vec<D> f = Vec<D>::Zero();
+    double d = 0.0;
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    const std::uint32_t j = q.j;
+    const Vec<D> e = q.r_ij / q.r;
+    const double Vj = p.V[j];
+    double pj = p.p[j];
+    const bool wall = p.kind[j] == Kind::Wall;
+    if (wall) {
+      const double an = (f_prior[i] / p.m[i]).dot(-e);
+      pj = p.p[i] + p.rho[i] * q.r * std::max(0.0, an);
+    }
+    const Vec<D> gw = (Vj * q.dW) * e; // V_j grad_i W_ij
+    if (!B)
+      a.f -= (p.p[i] + pj) * gw;
+    else if (wall)
+      a.f -= (p.p[i] + pj) * ((*B)[i] * gw);
+    else
+      a.f -= (p.p[i] * (*B)[j] + pj * (*B)[i]) * gw;
+    a.d += (p.p[i] - pj) * inv_rho0c0 * Vj * q.dW;
+    if (a_tilde && !wall) {
+      // (A_i + A_j) . grad W with A = rho v (x) dv: rho_i v_i (dv_i . gW) + rho_j v_j (dv_j . gW)
+      const Vec<D> dvi = half_dt * (*a_tilde)[i], dvj = half_dt * (*a_tilde)[j];
+      a.f -= p.rho[i] * dvi.dot(gw) * p.v[i] + p.rho[j] * dvj.dot(gw) * p.v[j];
+    }
+  }
+  void finish(std::size_t i, const Acc& a) {
+    force[i] = p.V[i] * a.f;
+    drho[i] = p.rho[i] * a.d;
+  }
+};
+
+// 2nd half (Integration2ndHalf): continuity with u_ij = (v_i - v_j) . e_ij and the momentum
+// dissipation of the Riemann solver with the limiter (eq. 6).
+template <int D>
+struct SecondHalf {
+  const Particles<D>& p;
+  const Vec<D>* v_wall;
+  const Options& o;
+  double rho0c0;
+  std::vector<double>& drho;   // in: 1st-half dissipation; out: += continuity
+  std::vector<Vec<D>>& f_diss; // out: dissipation force (assigned)
+
+  struct Acc {
+    double d = 0.0;
+    Vec<D> f = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    const Vec<D> e = q.r_ij / q.r;
+    const Vec<D> vj = partner_velocity(p, v_wall, i, q.j);
+    const double u = (p.v[i] - vj).dot(e);
+    const double VdW = p.V[q.j] * q.dW;
+    a.d += u * VdW;
+    const double beta = dissipation_beta(o, u);
+    if (beta > 0.0)
+      a.f += (rho0c0 * beta * u * VdW) * e;
+  }
+  void finish(std::size_t i, const Acc& a) {
+    drho[i] += p.rho[i] * a.d;
+    f_diss[i] = p.V[i] * a.f;
+  }
+};
+
+} // namespace ops
+
+// What one advection step did (for the case's diagnostics).
+struct StepInfo {
+  double Dt = 0.0;
+  int substeps = 0;
+  double tv_max = 0.0; // max_i |Delta r^tvf_i| / Dt
+  double v_max = 0.0;  // max fluid speed at the start of the step
+};
+
+template <int D, class K>
+class Scheme {
+public:
+  Scheme(Particles<D>& p, const Fields& f, const Domain<D>& box, const Options& o)
+      : p_(p), f_(f), box_(box), o_(o), kernel_(o.h) {}
+
+  static const std::vector<std::string>& stage_names() {
+    static const std::vector<std::string> names{"density_summation", "correction_matrix",
+                                                "viscous_force",     "transport",
+                                                "acoustic",          "neighbours"};
+    return names;
+  }
+
+  const Options& options() const { return o_; }
+  const K& kernel() const { return kernel_; }
+  double sigma0() const { return sigma0_; }
+  const NeighborList<D>& neighbors() const { return nl_; }
+  // Sum_j W_ij of the last density summation (fluid particles; in the current order).
+  const std::vector<double>& sum_w() const { return sumW_; }
+  const std::vector<Vec<D>>& tvf_shift() const { return shift_; }
+  long acoustic_steps() const { return acoustic_steps_; }
+
+  // Sum_j W_ij (self term included) on the neighbour list of the current positions (valid
+  // between advection steps: the list is rebuilt at the end of each).
+  void number_density(std::vector<double>& out) const {
+    out.resize(p_.size());
+    const double W0 = kernel_.W(0.0);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < p_.size(); ++i) {
+      double w = W0;
+      for (std::uint32_t k = nl_.offset[i]; k < nl_.offset[i + 1]; ++k)
+        w += nl_.W[k];
+      out[i] = w;
+    }
+  }
+
+  // Builds the cell list and the neighbour list on the initial positions; the first density
+  // summation happens in the first step.
+  void init() {
+    sigma0_ = lattice_number_density<D>(kernel_, o_.dx);
+    cells_ = std::make_unique<CellList<D>>(box_, kernel_.support());
+    neighbours();
+  }
+
+  // Advection time step, eqs. (9)-(10), from the current velocities and the forces of the last
+  // step (F_prior + F^diss).
+  double advection_dt() const {
+    double s2 = 4.0 * o_.h * a_last_max_;
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      if (fluid(i))
+        s2 = std::max(s2, p_.v[i].squaredNorm());
+    const double nu = o_.mu / o_.rho0;
+    return o_.cfl_ad * o_.h / std::max({std::sqrt(s2), o_.U_ref, nu / o_.h});
+  }
+
+  // Acoustic time step, eq. (11).
+  double acoustic_dt() const {
+    double v2 = 0.0;
+    const std::size_t N = p_.size();
+#pragma omp parallel for schedule(static) reduction(max : v2)
+    for (std::size_t i = 0; i < N; ++i)
+      if (fluid(i))
+        v2 = std::max(v2, p_.v[i].squaredNorm());
+    return o_.cfl_ac * o_.h / (o_.c0 + std::sqrt(v2));
+  }
+
+  // One advection step of size Dt through the stage list. Dt_nominal (default Dt) is the step of
+  // the advection criterion before the caller shortened it to land on an output time: the
+  // smoothing-length corrections shift by alpha h^2 psi g whatever the step, so their transport
+  // velocity is measured over Dt_nominal; the original variant's shift scales with Dt.
+  StepInfo advance(double Dt, double Dt_nominal = 0.0) {
+    StepInfo info;
+    info.Dt = Dt;
+    dt_tv_ = (o_.tvf == Tvf::Original || !(Dt_nominal > 0.0)) ? Dt : Dt_nominal;
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      if (fluid(i))
+        info.v_max = std::max(info.v_max, p_.v[i].norm());
+    for (const auto& s : stage_names())
+      run_stage(s, Dt, info);
+    return info;
+  }
+
+  bool fluid(std::size_t i) const {
+    return p_.kind[i] == Kind::Fluid;
+  }
+
+private:
+  Particles<D>& p_;
+  Fields f_;
+  Domain<D> box_;
+  Options o_;
+  K kernel_;
+  double sigma0_ = 1.0;
+  std::unique_ptr<CellList<D>> cells_;
+  NeighborList<D> nl_;
+  std::vector<double> sumW_, traceB_;
+  std::vector<Mat<D>> B_;
+  std::vector<Vec<D>> f_prior_, force_, g_, shift_, a_tilde_;
+  long acoustic_steps_ = 0;
+  double a_last_max_ = 0.0; // max_i |F_prior_i + F^diss_i| / m_i at the end of the last step
+  double dt_tv_ = 1.0;      // step over which the transport velocity is measured
+
+  const Vec<D>* v_wall() const {
+    return f_.v_wall >= 0 ? p_.vector(f_.v_wall).data() : nullptr;
+  }
+  const std::vector<Mat<D>>* B() const {
+    return o_.kernel_correction ? &B_ : nullptr;
+  }
+  auto fluid_only() const {
+    return [this](std::size_t i) { return fluid(i); };
+  }
+
+  void run_stage(const std::string& s, double Dt, StepInfo& info) {
+    if (s == "density_summation")
+      density_summation();
+    else if (s == "correction_matrix")
+      correction_matrix();
+    else if (s == "viscous_force")
+      viscous_force();
+    else if (s == "transport")
+      transport(Dt, info);
+    else if (s == "acoustic")
+      acoustic(Dt, info);
+    else if (s == "neighbours")
+      neighbours();
+  }
+
+  void neighbours() {
+    cells_->build(p_);
+    nl_.build(*cells_, p_.r, kernel_);
+    const std::size_t N = p_.size();
+    sumW_.resize(N), traceB_.resize(N), B_.resize(N, Mat<D>::Identity());
+    f_prior_.resize(N, Vec<D>::Zero()), force_.resize(N), g_.resize(N);
+    shift_.resize(N, Vec<D>::Zero()), a_tilde_.resize(N, Vec<D>::Zero());
+  }
+
+  void density_summation() {
+    ops::DensitySummation<D> op{p_, kernel_.W(0.0), o_.rho0, sigma0_, sumW_};
+    interact(nl_, op, fluid_only());
+    const std::size_t N = p_.size();
+    for (std::size_t i = 0; i < N; ++i)
+      if (!fluid(i))
+        p_.V[i] = p_.m[i] / p_.rho[i];
+  }
+
+  void correction_matrix() {
+    if (!o_.kernel_correction)
+      return;
+    CorrectionMatrix<D> op{p_.V, B_, traceB_};
+    interact(nl_, op, fluid_only());
+  }
+
+  void viscous_force() {
+    ops::ViscousForce<D> op{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, f_prior_};
+    interact(nl_, op, fluid_only());
+  }
+
+  // Eqs. (14)-(16) once per advection step, or Adami's a~ for the sub-steps.
+  void transport(double Dt, StepInfo& info) {
+    const std::size_t N = p_.size();
+    if (o_.tvf == Tvf::None) {
+      std::fill(shift_.begin(), shift_.end(), Vec<D>::Zero());
+      return;
+    }
+    if (o_.tvf == Tvf::Original) {
+      ops::BackgroundPressure<D> op{p_, o_.pb_factor * o_.rho0 * o_.c0 * o_.c0, a_tilde_};
+      interact(nl_, op, fluid_only());
+      std::fill(shift_.begin(), shift_.end(), Vec<D>::Zero()); // accumulated by the sub-steps
+      return;
+    }
+    ops::TvfResidue<D> op{p_, B(), g_};
+    interact(nl_, op, fluid_only());
+    const double c = o_.tvf_alpha * o_.h * o_.h;
+    double tv = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : tv)
+    for (std::size_t i = 0; i < N; ++i) {
+      if (!fluid(i))
+        continue;
+      const double psi =
+          o_.tvf == Tvf::Limited ? tvf_limiter(o_.tvf_kappa, o_.h, g_[i].squaredNorm()) : 1.0;
+      shift_[i] = (c * psi) * g_[i];
+      p_.r[i] += shift_[i];
+      tv = std::max(tv, shift_[i].norm());
+    }
+    info.tv_max = tv / dt_tv_;
+  }
+
+  void acoustic(double Dt, StepInfo& info) {
+    const std::size_t N = p_.size();
+    const bool original = o_.tvf == Tvf::Original;
+    auto& drho = p_.scalar(f_.drho);
+    auto& fd = p_.vector(f_.f_diss);
+    const double rho0c0 = o_.rho0 * o_.c0;
+    double tau = 0.0;
+    while (tau < Dt * (1.0 - 1e-12)) {
+      const double dt = std::min(acoustic_dt(), Dt - tau);
+      const double half = 0.5 * dt;
+      // 1st half: density and pressure at the half step, drift, pressure force, kick.
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < N; ++i) {
+        if (!fluid(i))
+          continue;
+        p_.rho[i] += half * drho[i];
+        p_.p[i] = o_.c0 * o_.c0 * (p_.rho[i] - o_.rho0);
+        Vec<D> vt = p_.v[i];
+        if (original) {
+          vt += half * a_tilde_[i];
+          shift_[i] += (half * half) * a_tilde_[i];
+        }
+        p_.r[i] += half * vt;
+      }
+      {
+        ops::FirstHalf<D> op{p_,   B(),          f_prior_, original ? &a_tilde_ : nullptr,
+                             half, 1.0 / rho0c0, force_,   drho};
+        interact(nl_, op, fluid_only());
+      }
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < N; ++i)
+        if (fluid(i))
+          p_.v[i] += (dt / p_.m[i]) * (f_prior_[i] + force_[i] + fd[i]);
+          // 2nd half: drift with the new velocity, continuity and dissipation, density.
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < N; ++i) {
+        if (!fluid(i))
+          continue;
+        Vec<D> vt = p_.v[i];
+        if (original) {
+          vt += half * a_tilde_[i];
+          shift_[i] += (half * half) * a_tilde_[i];
+        }
+        p_.r[i] += half * vt;
+      }
+      {
+        ops::SecondHalf<D> op{p_, v_wall(), o_, rho0c0, drho, fd};
+        interact(nl_, op, fluid_only());
+      }
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < N; ++i)
+        if (fluid(i))
+          p_.rho[i] += half * drho[i];
+      tau += dt;
+      ++info.substeps;
+      ++acoustic_steps_;
+    }
+    double tv = 0.0, a = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : tv, a)
+    for (std::size_t i = 0; i < N; ++i) {
+      if (!fluid(i))
+        continue;
+      tv = std::max(tv, shift_[i].norm());
+      a = std::max(a, (f_prior_[i] + fd[i]).norm() / p_.m[i]);
+    }
+    if (original)
+      info.tv_max = tv / dt_tv_;
+    a_last_max_ = a;
+  }
+};
+
+} // namespace sph::wcsph_tvf
