@@ -13,8 +13,10 @@
 //   outlet      fluid crossing x = L becomes outlet buffer: velocity frozen (its normal component
 //               preserved) until it leaves x = L + L_b; buffer pressure p = 0 (reference);
 //   cylinder    fixed particles on radial rings at spacing dx (radii R - (k + 1/2) dx, ring k with
-//               round(2 pi r_k / dx) particles) down to one kernel support deep (deeper particles
-//               never meet fluid), u = 0, pressure from eq. (20) (see schemes/alsph/alsph.hpp).
+//               round(2 pi r_k / dx) particles) down to two kernel supports deep (the rings a
+//               fluid particle sees then have complete supports, so their V_i = 1/sum W is right;
+//               deeper particles never meet fluid), u = 0, pressure from eq. (20)
+//               (see schemes/alsph/alsph.hpp).
 // Forces (section 3): the paper sums V_i rho_i a_i over the cylinder particles; we compute the same
 // force as the reaction of the fluid-body pair forces (Newton's third law):
 //   F = sum_{i fluid} sum_{j body} [ V_i V_j (p_i + p_j) grad_i W_ij
@@ -34,9 +36,18 @@
 // of C_L (zero crossings; st_cycles periods; St_spectral from the periodogram peak), cd_amplitude,
 // cl_amplitude (half peak-to-peak), div_mean (mean over steps of the mean |div u| over fluid),
 // div_max_mean, iterations_mean, converged_fraction (steps meeting eq. 13 before max_iterations),
-// t_diverged (only for a diverged run), costs (wall_s, steps, n_particles, search_s_per_step,
-// geometry_s_per_step, iteration_s, iteration_us_per_particle, search_over_iteration).
-// HDF5 (<output_dir>/cylinder_channel.h5): series/{t,cd,cl,div_mean,div_max,iterations},
+// t_diverged (only for a diverged run), costs: wall_s, cpu_s (process CPU), steps, n_particles,
+// and per particle in CPU microseconds: iteration_cpu_us_per_particle (one inner iteration),
+// search_cpu_us_per_particle (a fresh neighbour search: cells, pairs, kernel values, V, Gamma),
+// search_over_iteration (their ratio), refresh_cpu_us_per_particle (algorithm 1's per-iteration
+// pair refresh, included in the iteration), shifting_cpu_us_per_particle, cpu_us_per_particle_step
+// (everything).
+// Averages: when the lift after t_settle holds >= 2 whole periods (upward zero crossings), cd_mean,
+// cl_rms, the amplitudes are taken over exactly those periods (t_average = their length).
+// St is recorded only when at least one period was found; st_period_cv is the spread of the
+// periods relative to their mean (small for periodic shedding).
+// HDF5 (<output_dir>/cylinder_channel.h5): series/{t,cd,cl,div_mean,div_max,iterations}, one
+// sample per `sample_interval` (mean of the steps in the interval),
 // cp/{theta,cp_mean}.
 #include "cases/case.hpp"
 #include "core/cell_list.hpp"
@@ -119,6 +130,7 @@ struct BodyForceOp {
 
 RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
   const auto wall0 = std::chrono::steady_clock::now();
+  const double cpu0 = alsph::cpu_seconds();
   omp_set_num_threads(std::max(1, ctx.threads));
   const double Re = get_real(prm, "Re");
   const double dx = 1.0 / get_real(prm, "D_over_dx");
@@ -164,7 +176,7 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
   std::vector<double> theta0;
   for (int k = 0;; ++k) {
     const double rk = R - (k + 0.5) * dx;
-    if (rk <= 0.25 * dx || (k + 0.5) * dx > support + 0.5 * dx)
+    if (rk <= 0.25 * dx || (k + 0.5) * dx > 2.0 * support)
       break;
     const int n = std::max(1, static_cast<int>(std::lround(2.0 * std::numbers::pi * rk / dx)));
     for (int a = 0; a < n; ++a) {
@@ -200,7 +212,18 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
   std::vector<V2> fbody;
   const double eta2 = std::pow(s.eta_over_h * h, 2);
 
+  // Time series, one sample per sample_interval: each sample is the mean over the steps of its
+  // interval (a box filter: the step-to-step force noise of SPH averages out instead of aliasing).
   std::vector<double> ts, cds, cls, divs, divmax, iters;
+  struct Bin {
+    double t = 0, cd = 0, cl = 0, div = 0, divmax = 0, it = 0;
+    int n = 0;
+  } bin;
+  const double sample_interval = std::max(get_real(prm, "sample_interval"), dt);
+  double next_sample = sample_interval;
+  // Per-step sums after the settling time (div_mean, div_max_mean average every step).
+  double div_sum = 0.0, divmax_sum = 0.0;
+  long settled_steps = 0;
   std::vector<double> cp_sum(n_ring0, 0.0);
   double cp_time = 0.0;
   long steps = 0, converged_steps = 0, total_iterations = 0;
@@ -262,10 +285,10 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     }
     n_max = std::max(n_max, p.size());
     // 4. The one neighbour search of the step.
-    const double ts0 = omp_get_wtime();
+    const double ts0 = alsph::cpu_seconds();
     cells.build(p);
     nl.build(cells, p.r, kernel);
-    search_s += omp_get_wtime() - ts0;
+    search_s += alsph::cpu_seconds() - ts0;
     // 5. Ghost -> source in the new order.
     const auto& perm = cells.perm();
     inv.resize(perm.size());
@@ -308,9 +331,18 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     }
     p0 = n_in ? p0 / n_in : 0.0;
     const double q = 0.5 * rho * U * U * 1.0;
-    ts.push_back(t), cds.push_back(F[0] / q), cls.push_back(F[1] / q);
-    divs.push_back(st.div_mean), divmax.push_back(st.div_max), iters.push_back(st.iterations);
+    bin.t += t, bin.cd += F[0] / q, bin.cl += F[1] / q, bin.div += st.div_mean;
+    bin.divmax += st.div_max, bin.it += st.iterations, ++bin.n;
+    if (t >= next_sample - 1e-9 * dt || step + 1 == n_steps) {
+      const double w = 1.0 / bin.n;
+      ts.push_back(bin.t * w), cds.push_back(bin.cd * w), cls.push_back(bin.cl * w);
+      divs.push_back(bin.div * w), divmax.push_back(bin.divmax * w), iters.push_back(bin.it * w);
+      bin = Bin{};
+      while (next_sample <= t + 1e-9 * dt)
+        next_sample += sample_interval;
+    }
     if (t >= t_settle) {
+      div_sum += st.div_mean, divmax_sum += st.div_max, ++settled_steps;
       for (std::size_t i = 0; i < p.size(); ++i)
         if (p.kind[i] == Kind::Body && static_cast<std::size_t>(p.id[i]) < n_ring0)
           cp_sum[p.id[i]] += dt * (p.p[i] - p0) / q;
@@ -329,30 +361,54 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     ctx.report(t / t_end);
   }
 
+  if (bin.n > 0) { // the partial interval of a run that stopped early (diverged, cancelled)
+    const double w = 1.0 / bin.n;
+    ts.push_back(bin.t * w), cds.push_back(bin.cd * w), cls.push_back(bin.cl * w);
+    divs.push_back(bin.div * w), divmax.push_back(bin.divmax * w), iters.push_back(bin.it * w);
+  }
+
   // --- metrics -----------------------------------------------------------------------------
   const double t_avg = std::min(t_settle, ts.empty() ? 0.0 : ts.back());
   auto add_if = [&](const char* name, double v) {
     if (std::isfinite(v))
       res.add(name, v);
   };
-  add_if("cd_mean", diag::time_mean(ts, cds, t_avg));
-  add_if("cl_rms", diag::time_rms(ts, cls, t_avg));
-  const diag::Frequency fz = diag::zero_crossing_frequency(ts, cls, t_avg);
-  const diag::Frequency fs = diag::spectral_peak_frequency(ts, cls, t_avg);
-  res.add("St", fz.f * 1.0 / U);
-  res.add("st_cycles", fz.cycles);
-  res.add("St_spectral", fs.f * 1.0 / U);
-  double cdmin = 1e300, cdmax = -1e300, clmin = 1e300, clmax = -1e300;
-  for (std::size_t k = 0; k < ts.size(); ++k)
-    if (ts[k] >= t_avg)
-      cdmin = std::min(cdmin, cds[k]), cdmax = std::max(cdmax, cds[k]),
-      clmin = std::min(clmin, cls[k]), clmax = std::max(clmax, cls[k]);
-  if (cdmax >= cdmin) {
-    res.add("cd_amplitude", 0.5 * (cdmax - cdmin));
-    res.add("cl_amplitude", 0.5 * (clmax - clmin));
+  // Flow metrics only for a run that reached t_end: averages over a blow-up mean nothing (a
+  // diverged run records t_diverged, iteration counts and costs).
+  if (status == RunStatus::Done) {
+    // Shedding frequency from the lift signal after the settling time; when it holds whole periods,
+    // the averages (eqs. 21, 23) are taken over exactly those periods, else over [t_settle, t_end].
+    const diag::Frequency fz = diag::zero_crossing_frequency(ts, cls, t_avg);
+    const diag::Frequency fs = diag::spectral_peak_frequency(ts, cls, t_avg);
+    double a0 = t_avg, a1 = 1e300;
+    if (fz.cycles >= 2)
+      a0 = fz.t_first, a1 = fz.t_last;
+    add_if("cd_mean", diag::time_mean(ts, cds, a0, a1));
+    add_if("cl_rms", diag::time_rms(ts, cls, a0, a1));
+    res.add("st_cycles", fz.cycles);
+    if (fz.cycles >= 1) {
+      res.add("St", fz.f * 1.0 / U);
+      // Spread of the individual periods relative to the mean period: small for periodic shedding.
+      res.add("st_period_cv", fz.period_std * fz.f);
+    }
+    if (fs.f > 0.0)
+      res.add("St_spectral", fs.f * 1.0 / U);
+    double cdmin = 1e300, cdmax = -1e300, clmin = 1e300, clmax = -1e300;
+    for (std::size_t k = 0; k < ts.size(); ++k)
+      if (ts[k] >= a0 && ts[k] <= a1)
+        cdmin = std::min(cdmin, cds[k]), cdmax = std::max(cdmax, cds[k]),
+        clmin = std::min(clmin, cls[k]), clmax = std::max(clmax, cls[k]);
+    if (cdmax >= cdmin) {
+      res.add("cd_amplitude", 0.5 * (cdmax - cdmin));
+      res.add("cl_amplitude", 0.5 * (clmax - clmin));
+    }
+    // Mean over the steps after the settling time of the mean |div u| over the fluid (section 3).
+    if (settled_steps > 0) {
+      res.add("div_mean", div_sum / settled_steps);
+      res.add("div_max_mean", divmax_sum / settled_steps);
+    }
+    res.add("t_average", a1 < 1e299 ? a1 - a0 : t - a0);
   }
-  add_if("div_mean", diag::time_mean(ts, divs, t_avg));
-  add_if("div_max_mean", diag::time_mean(ts, divmax, t_avg));
   res.add("iterations_mean", steps ? double(total_iterations) / steps : 0.0);
   res.add("converged_fraction", steps ? double(converged_steps) / steps : 0.0);
   if (status == RunStatus::Diverged)
@@ -365,15 +421,21 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
   res.add("t_end_reached", t);
   res.add("n_particles", static_cast<double>(n_max));
   res.add("dt", dt);
-  if (steps > 0) {
-    const double it_s = total_iterations ? tm.iterations / total_iterations : 0.0;
-    res.add("search_s_per_step", search_s / steps);
-    res.add("geometry_s_per_step", tm.geometry / steps);
-    res.add("shifting_s_per_step", tm.shifting / steps);
-    res.add("iteration_s", it_s);
-    res.add("iteration_us_per_particle", 1e6 * it_s / std::max<std::size_t>(n_max, 1));
-    if (it_s > 0)
-      res.add("search_over_iteration", (search_s / steps) / it_s);
+  res.add("cpu_s", alsph::cpu_seconds() - cpu0);
+  if (steps > 0 && tm.particle_steps > 0) {
+    // Costs in process CPU time. A "fresh search" is what a new neighbour configuration costs:
+    // cell list + pair list with kernel values + V, Gamma. An inner iteration is eqs. (8)-(12)
+    // with its derivative evaluation (algorithm 1: plus its pair refresh and V, Gamma).
+    const double search_us = 1e6 * (search_s + tm.geometry) / tm.particle_steps;
+    res.add("search_cpu_us_per_particle", search_us);
+    res.add("shifting_cpu_us_per_particle", 1e6 * tm.shifting / tm.particle_steps);
+    res.add("cpu_us_per_particle_step", 1e6 * (alsph::cpu_seconds() - cpu0) / tm.particle_steps);
+    if (tm.particle_iterations > 0) {
+      const double it_us = 1e6 * tm.iterations / tm.particle_iterations;
+      res.add("iteration_cpu_us_per_particle", it_us);
+      res.add("refresh_cpu_us_per_particle", 1e6 * tm.refresh / tm.particle_iterations);
+      res.add("search_over_iteration", search_us / it_us);
+    }
   }
   res.message = why;
 
@@ -426,6 +488,9 @@ CaseInfo make_cylinder_channel_case() {
        "initial transverse velocity nudge behind the cylinder, in U (breaks the symmetry)", 0.0,
        1.0},
       {"speed_bound", ParamType::Real, 10.0, "diverged when max |u| exceeds this many U", 1.0, 1e6},
+      {"sample_interval", ParamType::Real, 0.02,
+       "time series sample interval in D/U (each sample averages the steps of its interval)", 0.0,
+       1e3},
   };
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cylinder_channel(prm, ctx); };
   return c;

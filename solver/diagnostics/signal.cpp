@@ -16,9 +16,11 @@ std::size_t first_index(const std::vector<double>& t, double t_start) {
 
 template <class F>
 double trapezoid_mean(const std::vector<double>& t, const std::vector<double>& f, double t_start,
-                      F&& g) {
+                      double t_stop, F&& g) {
   const std::size_t k0 = first_index(t, t_start);
-  const std::size_t n = std::min(t.size(), f.size());
+  const std::size_t n =
+      std::min(std::min(t.size(), f.size()),
+               static_cast<std::size_t>(std::upper_bound(t.begin(), t.end(), t_stop) - t.begin()));
   if (n < 2 || k0 + 1 >= n)
     return std::numeric_limits<double>::quiet_NaN();
   double s = 0.0;
@@ -30,12 +32,14 @@ double trapezoid_mean(const std::vector<double>& t, const std::vector<double>& f
 
 } // namespace
 
-double time_mean(const std::vector<double>& t, const std::vector<double>& f, double t_start) {
-  return trapezoid_mean(t, f, t_start, [](double x) { return x; });
+double time_mean(const std::vector<double>& t, const std::vector<double>& f, double t_start,
+                 double t_stop) {
+  return trapezoid_mean(t, f, t_start, t_stop, [](double x) { return x; });
 }
 
-double time_rms(const std::vector<double>& t, const std::vector<double>& f, double t_start) {
-  return std::sqrt(trapezoid_mean(t, f, t_start, [](double x) { return x * x; }));
+double time_rms(const std::vector<double>& t, const std::vector<double>& f, double t_start,
+                double t_stop) {
+  return std::sqrt(trapezoid_mean(t, f, t_start, t_stop, [](double x) { return x * x; }));
 }
 
 Frequency zero_crossing_frequency(const std::vector<double>& t, const std::vector<double>& f,
@@ -66,6 +70,7 @@ Frequency zero_crossing_frequency(const std::vector<double>& t, const std::vecto
   if (crossings.size() < 2)
     return out;
   out.cycles = static_cast<int>(crossings.size()) - 1;
+  out.t_first = crossings.front(), out.t_last = crossings.back();
   out.f = out.cycles / (crossings.back() - crossings.front());
   double s2 = 0.0;
   const double T = 1.0 / out.f;

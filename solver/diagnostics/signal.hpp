@@ -11,18 +11,20 @@
 
 namespace sph::diag {
 
-// Trapezoidal time average of f over the samples with t >= t_start (all if t_start <= t[0]).
+// Trapezoidal time average of f over the samples with t_start <= t <= t_stop (all by default).
 // NaN when fewer than two samples qualify.
 double time_mean(const std::vector<double>& t, const std::vector<double>& f,
-                 double t_start = -1e300);
+                 double t_start = -1e300, double t_stop = 1e300);
 // Trapezoidal root mean square, as eq. (23) (not mean-removed).
-double time_rms(const std::vector<double>& t, const std::vector<double>& f,
-                double t_start = -1e300);
+double time_rms(const std::vector<double>& t, const std::vector<double>& f, double t_start = -1e300,
+                double t_stop = 1e300);
 
 struct Frequency {
   double f = 0.0;          // frequency (1 / time unit of t); 0 when no period was found
   int cycles = 0;          // full periods used
   double period_std = 0.0; // standard deviation of the individual periods (zero crossings)
+  double t_first = 0.0;    // zero crossings: first and last upward crossing used, so that
+  double t_last = 0.0;     // [t_first, t_last] holds exactly `cycles` whole periods
 };
 
 // Frequency from upward zero crossings of the mean-removed signal (samples with t >= t_start),

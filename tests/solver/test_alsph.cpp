@@ -48,6 +48,11 @@ TEST(Signal, StrouhalOfSineFromZeroCrossingsAndSpectrum) {
   EXPECT_NEAR(z.f, f0, 1e-4 * f0);
   EXPECT_GE(z.cycles, 27);
   EXPECT_LT(z.period_std, 1e-3);
+  // [t_first, t_last] holds exactly z.cycles periods: the mean over it of a sine is ~0 and the
+  // rms is amplitude / sqrt(2), although the window does not start at a multiple of the period.
+  EXPECT_NEAR(z.t_last - z.t_first, z.cycles / f0, 1e-3);
+  EXPECT_NEAR(diag::time_mean(t, cl, z.t_first, z.t_last), 0.0, 1e-4);
+  EXPECT_NEAR(diag::time_rms(t, cl, z.t_first, z.t_last), 0.7 / std::sqrt(2.0), 1e-4);
   const auto s = diag::spectral_peak_frequency(t, cl, 60.0);
   EXPECT_NEAR(s.f, f0, 5e-3 * f0);
   // A constant signal has no frequency.
@@ -179,9 +184,12 @@ TEST(CylinderChannel, BothAlgorithmsRunAndReportMetrics) {
     prm["algorithm"] = alg;
     const RunResult r = find_case("cylinder_channel")->run(prm, RunContext{});
     EXPECT_EQ(r.status, RunStatus::Done) << "algorithm " << alg << ": " << r.message;
-    for (const char* k : {"cd_mean", "cl_rms", "St", "st_cycles", "div_mean", "iterations_mean",
-                          "converged_fraction", "wall_s", "iteration_s"})
+    for (const char* k : {"cd_mean", "cl_rms", "st_cycles", "div_mean", "iterations_mean",
+                          "converged_fraction", "wall_s", "cpu_s", "iteration_cpu_us_per_particle"})
       EXPECT_TRUE(std::isfinite(metric(r, k))) << k;
+    // 0.4 D/U holds no shedding period: St is left out rather than recorded as a number.
+    EXPECT_EQ(metric(r, "st_cycles"), 0.0);
+    EXPECT_TRUE(std::isnan(metric(r, "St")));
     EXPECT_GT(metric(r, "cd_mean"), 0.0);
     EXPECT_LE(metric(r, "iterations_mean"), 5.0);
     EXPECT_TRUE(std::isnan(metric(r, "t_diverged")));
@@ -196,6 +204,8 @@ TEST(CylinderChannel, TooLargeTimeStepIsRecordedAsDiverged) {
   EXPECT_EQ(r.status, RunStatus::Diverged);
   EXPECT_GT(metric(r, "t_diverged"), 0.0);
   EXPECT_LT(metric(r, "t_diverged"), 20.0);
+  EXPECT_TRUE(std::isnan(metric(r, "cd_mean"))); // no averages over a blow-up
+  EXPECT_EQ(metric(r, "iterations_mean"), 5.0);
 }
 
 TEST(MirrorGhosts, CopiesScalarsMirrorsVectorsAndPositions) {

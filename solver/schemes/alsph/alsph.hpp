@@ -37,9 +37,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <omp.h>
 
 namespace sph::alsph {
+
+// Process CPU time in seconds (all threads).
+inline double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 struct Settings {
   double c_bv = 100.0;     // C_BV in r_AL = C_BV u_max^2 dt
@@ -62,12 +70,17 @@ struct StepStats {
   double u_max = 0.0;
 };
 
-// Wall-clock seconds spent in the parts of the step (accumulated over steps).
+// Process CPU seconds (summed over threads; on a shared machine this, unlike wall time, does not
+// grow with other users' load) spent in the parts of the step, accumulated over steps.
 struct Timers {
-  double geometry = 0.0;   // V, Gamma (and, algorithm 1, the pair refresh)
-  double iterations = 0.0; // eqs. (8)-(12) and the convergence check
-  double shifting = 0.0;   // eqs. (18)-(19)
+  double geometry = 0.0;   // V, Gamma on the pairs of the fresh search (once per step)
+  double iterations = 0.0; // eqs. (8)-(12), the convergence check and the final evaluation;
+                           // algorithm 1: also the pair refresh and V, Gamma of every iteration
+  double refresh = 0.0;    // algorithm 1: the part of `iterations` spent on refresh + geometry
+  double shifting = 0.0;   // eqs. (18)-(19) (with the pair refresh they need)
   long evaluations = 0;    // derivative evaluations of the velocity (one per iteration + final)
+  double particle_iterations = 0.0; // sum over steps of N x iterations
+  double particle_steps = 0.0;      // sum over steps of N
 };
 
 namespace ops {
@@ -293,20 +306,18 @@ public:
     st.u_max = std::sqrt(umax2);
     st.r_al = s_.c_bv * umax2 * dt;
 
-    double t0 = omp_get_wtime();
-    geometry(p, nl);
-    double t1 = omp_get_wtime();
+    const double t0 = cpu_seconds();
+    geometry(p, nl, &ghosts);
+    const double t1 = cpu_seconds();
     timers_.geometry += t1 - t0;
 
     int m = 0;
     for (;; ++m) {
       if (s_.algorithm == 1 && m > 0) {
-        const double ta = omp_get_wtime();
+        const double ta = cpu_seconds();
         refresh_pairs(p, nl);
-        geometry(p, nl);
-        const double tb = omp_get_wtime();
-        timers_.geometry += tb - ta;
-        t1 += tb - ta; // exclude from the iteration timer
+        geometry(p, nl, &ghosts);
+        timers_.refresh += cpu_seconds() - ta;
       }
       // <grad u>, <div u>, <lap u> on the current iterate (eq. 13 check and input of eq. 8).
       ops::VelocityDerivatives<D> da{p.V, gamma, p.v, eta2_, grad_u, div, lap_u};
@@ -354,8 +365,10 @@ public:
       ghosts.copy_positions(p.r);
     }
     st.iterations = m;
-    const double t2 = omp_get_wtime();
+    const double t2 = cpu_seconds();
     timers_.iterations += t2 - t1;
+    timers_.particle_iterations += static_cast<double>(N) * m;
+    timers_.particle_steps += static_cast<double>(N);
 
     if (s_.shifting) {
       // eq. (18) on the final positions (algorithm 2 has its pairs still on r^n), eq. (19).
@@ -371,7 +384,7 @@ public:
         p.v[i] += grad_u[i] * dr[i];
         p.p[i] += grad_p[i].dot(dr[i]);
       }
-      timers_.shifting += omp_get_wtime() - t2;
+      timers_.shifting += cpu_seconds() - t2;
     }
     return st;
   }
@@ -395,9 +408,14 @@ public:
   }
 
   // V_i = 1 / sum_j W_ij (after eq. 14) and Gamma_i = alpha_i^{-1} (eq. 17) on the pairs' geometry.
-  void geometry(Particles<D>& p, const NeighborList<D>& nl) {
+  // A mirror ghost takes the volume of its source: its own kernel sum is truncated (no particles
+  // lie beyond one support behind the wall), the source's is complete.
+  void geometry(Particles<D>& p, const NeighborList<D>& nl,
+                const MirrorGhosts<D>* ghosts = nullptr) {
     SummationDensity<D, Kernel> sd{p, kernel_};
     interact(nl, sd);
+    if (ghosts)
+      ghosts->copy_scalar(p.V);
     CorrectionMatrix<D> cm{p.V, gamma, trace_b};
     interact(nl, cm);
   }
