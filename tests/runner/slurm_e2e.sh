@@ -115,7 +115,8 @@ array=$(sed -n 's/.*as Slurm array \([0-9]*\).*/\1/p' submit5.log)
 [[ -n "$array" ]] || fail "checkpoint submission"
 key=$(q slurm/results.sqlite "SELECT key FROM jobs WHERE case_name='checkpoint_demo'")
 ckpt=slurm/slurm/outputs/slurm_ckpt/$key/checkpoint.h5
-for _ in $(seq 150); do [[ -f $ckpt ]] && break; sleep 0.1; done
+# Up to 60 s: on a loaded CI machine Slurm may start the task late.
+for _ in $(seq 600); do [[ -f $ckpt ]] && break; sleep 0.1; done
 [[ -f $ckpt ]] || fail "no checkpoint in the shared directory ($ckpt)"
 scancel "$array"
 for _ in $(seq 100); do
