@@ -12,6 +12,7 @@ CaseInfo make_cavity_cylinder_case();
 CaseInfo make_cylinder_channel_case();
 CaseInfo make_checkpoint_demo_case();
 CaseInfo make_taylor_green_case();
+CaseInfo make_cylinder_array_case();
 
 const std::vector<CaseInfo>& case_registry() {
   static const std::vector<CaseInfo> cases{
@@ -22,6 +23,7 @@ const std::vector<CaseInfo>& case_registry() {
       make_cylinder_channel_case(),
       make_checkpoint_demo_case(),
       make_taylor_green_case(),
+      make_cylinder_array_case(),
   };
   return cases;
 }

@@ -25,6 +25,8 @@
 //                   the physical viscosity only
 // Two fluids: nu_left, nu_right are fitted jointly (eta_fit_left, eta_fit_right) with the
 // composite-medium solution; profile_err uses the same solution with the physical viscosities.
+// Parameter impedance: a checked copy of rho0 c0 (the x axis of the eta_num-against-Z figure);
+// with material = custom it may set c0 instead.
 // Cost: steps, wall_s, wall_per_step_s, n_fluid, n_ghost, neighbors_mean.
 #include "cases/case.hpp"
 #include "cases/materials.hpp"
@@ -59,9 +61,18 @@ Side resolve_side(const Params& prm, const std::string& key) {
     s.c0 = get_real(prm, "c0");
   if (get_real(prm, "eta") >= 0.0)
     s.eta = get_real(prm, "eta");
+  const double Z = get_real(prm, "impedance");
+  if (Z > 0.0) {
+    if (key == "custom" && get_real(prm, "c0") < 0.0 && s.rho0 > 0.0)
+      s.c0 = Z / s.rho0;
+    else if (!(std::abs(Z - s.rho0 * s.c0) <= 1e-3 * s.rho0 * s.c0))
+      throw std::invalid_argument("shear_layer: impedance = " + std::to_string(Z) +
+                                  " differs from rho0 c0 = " + std::to_string(s.rho0 * s.c0) +
+                                  " of material '" + key + "' by more than 0.1%");
+  }
   if (!(s.rho0 > 0.0) || !(s.c0 > 0.0) || !(s.eta >= 0.0))
     throw std::invalid_argument(
-        "shear_layer: material 'custom' needs rho0 > 0, c0 > 0 and eta >= 0");
+        "shear_layer: material 'custom' needs rho0 > 0, c0 > 0 (or impedance) and eta >= 0");
   return s;
 }
 
@@ -289,6 +300,14 @@ CaseInfo make_shear_layer_case() {
        ParamType::Real,
        -1.0,
        "physical dynamic viscosity, Pa s (< 0: from the material; 0: inviscid)",
+       -1.0,
+       {}},
+      {"impedance",
+       ParamType::Real,
+       -1.0,
+       "acoustic impedance rho0 c0, kg/(m^2 s) (< 0: from the material). With a Table 1 material "
+       "it must equal rho0 c0 within 0.1% (a checked label that figures can plot against); with "
+       "custom and no c0 it sets c0 = impedance / rho0",
        -1.0,
        {}},
       {"U0",

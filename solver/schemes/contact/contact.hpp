@@ -39,6 +39,17 @@
 // mirrored particles is chosen at init() (all particles within one search radius of the wall) and
 // kept: right for flows along the wall (the shear layer), not for flows that move particles
 // towards or away from a wall by more than the skin.
+//
+// Solid bodies (no-slip, at rest): particles of Kind::Wall added before init() (src = -1), a
+// layer at least one search radius thick. In a pair (i fluid, j solid) particle j takes the state
+// that makes the contact a no-slip wall at rest: U_j = -U_i (so the contact velocity of (9) and
+// (27) is zero for equal impedances and viscosities), P_j = P_i + rho_i g . (r_j - r_i) (the
+// pressure of i carried to j by the body force, as in Adami, Hu & Adams 2012, J. Comput. Phys.
+// 231, 7057, eq. 27), and i's impedance and viscosities. The correction zeta eta_num acts on these
+// pairs as on fluid pairs. The force the solids exert on particle i is kept (solid_force()).
+//
+// Body force: a constant acceleration g (Options::g) added to dU/dt of (35), its power g . U_i to
+// dE/dt of (36).
 #pragma once
 
 #include "core/cell_list.hpp"
@@ -48,6 +59,7 @@
 #include "schemes/contact/riemann.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -64,11 +76,12 @@ inline double eta_num_eq37(double D0, double Z, double alpha) {
 }
 
 struct Options {
-  double alpha = 0.5;    // h_ij = alpha (D_i + D_j), eq. (12)
-  double zeta = 0.0;     // fraction of the numerical viscosity removed, eq. (26)
-  double eta_num = -1.0; // Pa s; < 0: eq. (37) per particle
-  double cfl = 0.3;      // dt = cfl min D_i / (c0_i + |U_i|)
-  double skin = 1.1;     // search radius / largest pair support
+  double alpha = 0.5;                     // h_ij = alpha (D_i + D_j), eq. (12)
+  double zeta = 0.0;                      // fraction of the numerical viscosity removed, eq. (26)
+  double eta_num = -1.0;                  // Pa s; < 0: eq. (37) per particle
+  double cfl = 0.3;                       // dt = cfl min D_i / (c0_i + |U_i|)
+  double skin = 1.1;                      // search radius / largest pair support
+  std::array<double, 3> g{0.0, 0.0, 0.0}; // body force per unit mass, m/s^2 (first D components)
 };
 
 // A slip wall: the plane x_axis = position; fluid lies on the side `side` (+1: above, -1: below).
@@ -100,7 +113,9 @@ struct Work {
   std::vector<double> size, Z;        // D_i (11), rho_i c0_i
   std::vector<ViscousSide> phys, num; // eta_i and zeta eta_num_i
   std::vector<Vec<D>> dvdt;           // eq. (35)
+  std::vector<Vec<D>> dvdt_solid;     // the part of (35) from pairs with solid particles
   std::vector<double> depsdt, dEdt;   // eqs. (33), (36)
+  std::vector<char> solid;            // 1: a no-slip solid particle at rest (Wall, src < 0)
 };
 
 // Phase struct of the pair loop: eqs. (8)-(9), (27)-(36) for one particle i.
@@ -110,9 +125,11 @@ struct ContactRates {
   Work<D>& w;
   const K& unit; // kernel of h = 1
   double alpha;
+  Vec<D> g; // body force per unit mass
 
   struct Acc {
     Vec<D> dv = Vec<D>::Zero();
+    Vec<D> dv_solid = Vec<D>::Zero();
     double deps = 0.0, dE = 0.0;
   };
   Acc init(std::size_t) const { return {}; }
@@ -130,28 +147,35 @@ struct ContactRates {
     const double s = -unit.dW(qh) / hp; // e . grad_i W_ij
     const Vec<D> e = rij * (-1.0 / r);
     const Vec<D>& vi = p.v[i];
-    const Vec<D>& vj = p.v[j];
-    const double Zi = w.Z[i], Zj = w.Z[j];
-    const RiemannSolution rs = acoustic_riemann(p.p[i], vi.dot(e), Zi, p.p[j], vj.dot(e), Zj);
+    const bool solid = w.solid[j];
+    // A solid neighbour takes the no-slip wall state seen from i (see the file comment).
+    const Vec<D> vj = solid ? Vec<D>(-vi) : p.v[j];
+    const double Pj = solid ? p.p[i] - p.rho[i] * g.dot(rij) : p.p[j];
+    const std::uint32_t js = solid ? static_cast<std::uint32_t>(i) : j;
+    const double Zi = w.Z[i], Zj = w.Z[js];
+    const RiemannSolution rs = acoustic_riemann(p.p[i], vi.dot(e), Zi, Pj, vj.dot(e), Zj);
     const double eta_c =
-        contact_viscosity(w.phys[i], w.phys[j]) - contact_viscosity(w.num[i], w.num[j]);
+        contact_viscosity(w.phys[i], w.phys[js]) - contact_viscosity(w.num[i], w.num[js]);
     const Vec<D> dU = vj - vi;
     const Vec<D> tau = (eta_c / r) * (dU + (dU.dot(e) / 3.0) * e);
     const Vec<D> F = rs.P * e - tau;
-    const double wp = contact_weight(w.phys[i], w.phys[j], Zi, Zj);
-    const double wn = contact_weight(w.num[i], w.num[j], Zi, Zj);
+    const double wp = contact_weight(w.phys[i], w.phys[js], Zi, Zj);
+    const double wn = contact_weight(w.num[i], w.num[js], Zi, Zj);
     const Vec<D> Up = wp * vi + (1.0 - wp) * vj;
     const Vec<D> Un = wn * vi + (1.0 - wn) * vj;
     const Vec<D> Uc = rs.U * e + (Up - Up.dot(e) * e) - (Un - Up);
     const double c = 2.0 * p.m[j] / p.rho[j] * s;
     a.dv -= c * F;
+    if (solid)
+      a.dv_solid -= c * F;
     a.deps -= c * (vi - Uc).dot(e);
     a.dE -= c * F.dot(Uc);
   }
   void finish(std::size_t i, const Acc& a) {
-    w.dvdt[i] = a.dv / p.rho[i];
+    w.dvdt[i] = a.dv / p.rho[i] + g;
+    w.dvdt_solid[i] = a.dv_solid / p.rho[i];
     w.depsdt[i] = a.deps;
-    w.dEdt[i] = a.dE / p.rho[i];
+    w.dEdt[i] = a.dE / p.rho[i] + g.dot(p.v[i]);
   }
 };
 
@@ -234,6 +258,22 @@ public:
   }
   double size(std::size_t i) const { return std::pow(p_.m[i] / p_.rho[i], 1.0 / D); }
 
+  // Force the solid particles exert on the fluid, sum_i m_i (dU_i/dt from solid pairs), from the
+  // last rate evaluation (the midpoint of the last step). Minus this is the drag on the solids.
+  Vec<D> solid_force() const {
+    Vec<D> F = Vec<D>::Zero();
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      if (fluid(i))
+        F += p_.m[i] * w_.dvdt_solid[i];
+    return F;
+  }
+  std::size_t num_solids() const {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      n += p_.kind[i] == Kind::Wall && p_.scalar(f_.src)[i] < 0.0;
+    return n;
+  }
+
   const NeighborList<D>& neighbors() const { return nl_; }
   const Work<D>& work() const { return w_; }
   std::size_t searches() const { return searches_; }
@@ -306,6 +346,11 @@ private:
     w_.disp.assign(N, Vec<D>::Zero());
     w_.size.resize(N), w_.Z.resize(N), w_.phys.resize(N), w_.num.resize(N);
     w_.dvdt.resize(N), w_.depsdt.resize(N), w_.dEdt.resize(N);
+    w_.dvdt_solid.assign(N, Vec<D>::Zero());
+    w_.solid.resize(N);
+    const auto& src = p_.scalar(f_.src);
+    for (std::size_t i = 0; i < N; ++i)
+      w_.solid[i] = p_.kind[i] == Kind::Wall && src[i] < 0.0;
   }
 
   // Equation of state (4) and the per-particle factors of the pair terms.
@@ -327,7 +372,10 @@ private:
   }
 
   void rates() {
-    ContactRates<D, K> op{p_, w_, unit_, o_.alpha};
+    Vec<D> g;
+    for (int k = 0; k < D; ++k)
+      g[k] = o_.g[k];
+    ContactRates<D, K> op{p_, w_, unit_, o_.alpha, g};
     interact(nl_, op, [this](std::size_t i) { return fluid(i); });
   }
 
