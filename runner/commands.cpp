@@ -12,8 +12,8 @@
 #include <cstdio>
 #include <map>
 #include <set>
-#include <variant>
 #include <stdexcept>
+#include <variant>
 #include <vector>
 
 namespace sph::runner {
@@ -401,11 +401,11 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
     std::string where_text;
     for (const auto& w : t.where)
       where_text += (where_text.empty() ? " with " : " and ") + w;
-    throw std::runtime_error("no values of metric '" + t.metric + "' in study '" + t.study + "'" +
-                             where_text +
-                             (known ? "" : did_you_mean(t.metric, names) +
-                                               (names.empty() ? "" : "; metrics: " +
-                                                                         quoted_list(names))));
+    throw std::runtime_error(
+        "no values of metric '" + t.metric + "' in study '" + t.study + "'" + where_text +
+        (known ? ""
+               : did_you_mean(t.metric, names) +
+                     (names.empty() ? "" : "; metrics: " + quoted_list(names))));
   }
   std::vector<std::vector<std::string>> grid;
   std::vector<std::string> head{t.rows + " \\ " + t.cols};
@@ -475,9 +475,10 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
   };
   std::vector<Row> rows;
   std::map<std::int64_t, std::size_t> index;
-  Stmt q = db.prepare("SELECT j.id, j.key, j.state, j.scheme, j.params_json FROM jobs j JOIN "
-                      "(SELECT job_id, min(ordinal) AS o FROM study_jobs WHERE study_id=? AND current GROUP "
-                      "BY job_id) sj ON sj.job_id=j.id ORDER BY sj.o");
+  Stmt q = db.prepare(
+      "SELECT j.id, j.key, j.state, j.scheme, j.params_json FROM jobs j JOIN "
+      "(SELECT job_id, min(ordinal) AS o FROM study_jobs WHERE study_id=? AND current GROUP "
+      "BY job_id) sj ON sj.job_id=j.id ORDER BY sj.o");
   q.bind(1, sid);
   while (q.step()) {
     index[q.integer(0)] = rows.size();

@@ -208,8 +208,8 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
   if (c.timed_out) {
     f.state = "timeout";
     f.failure_class = "timeout";
-    f.error_text = with_tail("exceeded the wall-clock limit of " + short_number(timeout_s.value_or(0)) +
-                             " s (--timeout)");
+    f.error_text = with_tail("exceeded the wall-clock limit of " +
+                             short_number(timeout_s.value_or(0)) + " s (--timeout)");
   } else if (r && r->status == "failed") {
     f.state = "failed";
     f.failure_class = "exception";
@@ -395,10 +395,16 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         t.log = scratch / (stem + ".log");
         t.progress = scratch / (stem + ".progress");
         t.output_dir = db_dir / study.name / job.key;
-        JobFileSpec spec{
-            job.key,  job.case_name,         job.scheme,         job.params, opts.threads_per_job,
-            *attempt, t.output_dir.string(), t.progress.string(),
-            opts.checkpoint_every_steps, opts.checkpoint_every_s};
+        JobFileSpec spec{job.key,
+                         job.case_name,
+                         job.scheme,
+                         job.params,
+                         opts.threads_per_job,
+                         *attempt,
+                         t.output_dir.string(),
+                         t.progress.string(),
+                         opts.checkpoint_every_steps,
+                         opts.checkpoint_every_s};
         try {
           fs::create_directories(t.output_dir);
           write_file_atomic(t.spec, spec_to_json(spec));

@@ -22,8 +22,8 @@ struct RunOptions {
   int max_attempts = 3; // failing attempts after which --retry-failed leaves a job alone
   bool dry_run = false;
   bool allow_network_fs = false;
-  std::optional<bool> live_progress;       // default: stdout is a terminal
-  double log_every_s = 60; // without the live line: a plain progress line this often
+  std::optional<bool> live_progress; // default: stdout is a terminal
+  double log_every_s = 60;           // without the live line: a plain progress line this often
   std::string self_exe = "/proc/self/exe"; // the binary that has the `job` subcommand
   double heartbeat_s = 5;
   double stale_after_s = 30; // a running job whose heartbeat is older is abandoned

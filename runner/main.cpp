@@ -23,9 +23,8 @@ int main(int argc, char** argv) {
   // A positional study file and subcommands clash in CLI11: treat `runner STUDY.toml ...` as
   // `runner run STUDY.toml ...`.
   static const std::set<std::string> subcommands = {
-      "report",
-      "run",    "job",    "query",      "status", "cases", "table",    "export",
-      "submit", "ingest", "slurm-task", "-h",     "--help", "--version"};
+      "report", "run",    "job",    "query",      "status", "cases",  "table",
+      "export", "submit", "ingest", "slurm-task", "-h",     "--help", "--version"};
   std::vector<std::string> args(argv, argv + argc);
   if (args.size() > 1 && !subcommands.count(args[1]))
     args.insert(args.begin() + 1, "run");
@@ -122,12 +121,15 @@ int main(int argc, char** argv) {
   report_opt.db = default_db;
   std::string report_db = default_db;
   auto* report = app.add_subcommand("report", "Write a study's figures and tables as an HTML page");
-  report->add_option("study", report_opt.study, "Study file, or the name of a study in the database")
+  report
+      ->add_option("study", report_opt.study, "Study file, or the name of a study in the database")
       ->required();
   report->add_option("--db", report_db, "Database file")->capture_default_str();
-  report->add_option("--out", report_opt.out_dir, "Output directory (default: <db dir>/report/<study>)");
+  report->add_option("--out", report_opt.out_dir,
+                     "Output directory (default: <db dir>/report/<study>)");
   report->add_option("--tier", report_opt.tier, "Only the jobs of this tier");
-  report->add_option("--image-format", report_opt.image_format, "svg or png")->capture_default_str();
+  report->add_option("--image-format", report_opt.image_format, "svg or png")
+      ->capture_default_str();
 
   SubmitOptions so;
   std::string submit_file, db_submit = default_db;
@@ -139,8 +141,9 @@ int main(int argc, char** argv) {
   submit->add_option("--db", db_submit, "Database file (on the head node's local disk)")
       ->capture_default_str();
   submit->add_option("--tier", so.tier, "Submit a tier of the study");
-  submit->add_option("--array-limit", so.array_limit,
-                     "Array tasks running at once (%K of --array; 0: no limit)")
+  submit
+      ->add_option("--array-limit", so.array_limit,
+                   "Array tasks running at once (%K of --array; 0: no limit)")
       ->check(CLI::NonNegativeNumber);
   submit->add_option("--jobs-per-task", so.jobs_per_task, "Jobs run by each array task")
       ->capture_default_str()
@@ -172,7 +175,8 @@ int main(int argc, char** argv) {
   submit->add_flag("-n,--dry-run", so.dry_run, "Write the manifest and script, do not sbatch");
 
   std::string db_ingest = default_db;
-  auto* ingest = app.add_subcommand("ingest", "Record finished Slurm jobs' results in the database");
+  auto* ingest =
+      app.add_subcommand("ingest", "Record finished Slurm jobs' results in the database");
   ingest->add_option("--db", db_ingest, "Database file")->capture_default_str();
 
   std::string manifest_file;

@@ -146,16 +146,15 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   if (todo.empty())
     return 0;
 
-  const fs::path db_dir = fs::absolute(
-      opts.db_path.parent_path().empty() ? fs::path(".") : opts.db_path.parent_path());
+  const fs::path db_dir =
+      fs::absolute(opts.db_path.parent_path().empty() ? fs::path(".") : opts.db_path.parent_path());
   fs::path base = opts.slurm_dir.empty() ? db_dir / "slurm" : fs::absolute(opts.slurm_dir);
   fs::path exe = fs::canonical(opts.self_exe);
 
   // Record the submission first: its id names the directory.
   std::int64_t sub_id;
-  const std::size_t n_tasks =
-      (todo.size() + static_cast<std::size_t>(opts.jobs_per_task) - 1) /
-      static_cast<std::size_t>(opts.jobs_per_task);
+  const std::size_t n_tasks = (todo.size() + static_cast<std::size_t>(opts.jobs_per_task) - 1) /
+                              static_cast<std::size_t>(opts.jobs_per_task);
   fs::path dir;
   {
     WriteTx tx(store.db());
@@ -306,8 +305,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
     Stmt s = store.db().prepare("UPDATE slurm_submissions SET slurm_job_id=? WHERE id=?");
     s.bind(1, array_id).bind(2, sub_id).run();
     Stmt u = store.db().prepare("UPDATE jobs SET slurm_job_id=? WHERE id=? AND attempts=?");
-    Stmt a = store.db().prepare(
-        "UPDATE attempts SET slurm_job_id=? WHERE job_id=? AND attempt=?");
+    Stmt a = store.db().prepare("UPDATE attempts SET slurm_job_id=? WHERE job_id=? AND attempt=?");
     std::size_t k = 0;
     for (std::size_t t = 0; t < tasks.size(); ++t)
       for (std::size_t j = 0; j < tasks[t].size(); ++j, ++k) {
@@ -318,7 +316,8 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
     tx.commit();
   }
   out << "submitted " << marked.size() << " jobs as Slurm array " << array_id << " ("
-      << tasks.size() << " tasks" << (opts.array_limit > 0 ? ", at most " + std::to_string(opts.array_limit) + " at once" : "")
+      << tasks.size() << " tasks"
+      << (opts.array_limit > 0 ? ", at most " + std::to_string(opts.array_limit) + " at once" : "")
       << "); files in " << dir.string() << "\n";
   if (!opts.wait)
     return 0;
@@ -335,8 +334,8 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
       left = q.integer(0);
     }
     if (r.ingested || r.lost)
-      out << "ingested " << r.ingested << (r.lost ? ", lost " + std::to_string(r.lost) : "")
-          << "; " << left << " still submitted\n"
+      out << "ingested " << r.ingested << (r.lost ? ", lost " + std::to_string(r.lost) : "") << "; "
+          << left << " still submitted\n"
           << std::flush;
     if (left == 0)
       break;
@@ -505,8 +504,8 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
     };
     std::vector<J> js;
     while (jobs.step())
-      js.push_back({jobs.integer(0), jobs.text(1), static_cast<int>(jobs.integer(2)),
-                    jobs.text(3)});
+      js.push_back(
+          {jobs.integer(0), jobs.text(1), static_cast<int>(jobs.integer(2)), jobs.text(3)});
     const fs::path db_dir =
         store.path().parent_path().empty() ? fs::path(".") : store.path().parent_path();
     std::vector<std::pair<std::int64_t, int>> lost;

@@ -31,13 +31,13 @@ struct SubmitOptions {
   std::optional<double> timeout_s; // per job; the Slurm time limit is derived from it
   bool retry_failed = false;
   int max_attempts = 3;
-  std::string partition;                 // "" : the cluster's default
-  std::vector<std::string> sbatch_args;  // extra sbatch options, e.g. --account=X
-  std::filesystem::path slurm_dir;       // "" : <db dir>/slurm (must be visible on the nodes)
+  std::string partition;                // "" : the cluster's default
+  std::vector<std::string> sbatch_args; // extra sbatch options, e.g. --account=X
+  std::filesystem::path slurm_dir;      // "" : <db dir>/slurm (must be visible on the nodes)
   std::string self_exe = "/proc/self/exe";
-  bool wait = false;                     // poll and ingest until every submitted job is back
+  bool wait = false; // poll and ingest until every submitted job is back
   double poll_s = 2;
-  bool dry_run = false;                  // write the manifest and script, do not sbatch
+  bool dry_run = false; // write the manifest and script, do not sbatch
   // Checkpoint policy of each job (0: off), as for a local run; checkpoints live in the job's
   // output directory under slurm_dir, so a resubmitted job resumes where its last task stopped.
   std::int64_t checkpoint_every_steps = 0;
@@ -50,9 +50,9 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
 int run_slurm_task(const std::filesystem::path& manifest, int task);
 
 struct IngestReport {
-  std::size_t ingested = 0;  // outcomes recorded
-  std::size_t lost = 0;      // submitted jobs whose array ended without an outcome: pending again
-  std::size_t waiting = 0;   // still submitted
+  std::size_t ingested = 0; // outcomes recorded
+  std::size_t lost = 0;     // submitted jobs whose array ended without an outcome: pending again
+  std::size_t waiting = 0;  // still submitted
 };
 
 // Ingests every finished outcome file of every submission into the store; marks lost jobs.

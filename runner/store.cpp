@@ -4,8 +4,8 @@
 
 #include "schema.hpp"
 
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <sys/vfs.h>
 #include <unistd.h>
@@ -277,9 +277,10 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
     r.exhausted = static_cast<std::size_t>(c.integer(0));
   }
   {
-    Stmt q = db_.prepare("SELECT j.id, sj.ordinal, j.state, j.attempts FROM study_jobs sj JOIN "
-                         "jobs j ON j.id = sj.job_id WHERE sj.study_id=? AND sj.tier=? AND sj.current "
-                         "ORDER BY sj.ordinal");
+    Stmt q =
+        db_.prepare("SELECT j.id, sj.ordinal, j.state, j.attempts FROM study_jobs sj JOIN "
+                    "jobs j ON j.id = sj.job_id WHERE sj.study_id=? AND sj.tier=? AND sj.current "
+                    "ORDER BY sj.ordinal");
     q.bind(1, r.study_id).bind(2, tier);
     while (q.step())
       r.jobs.push_back({q.integer(0), static_cast<std::size_t>(q.integer(1)), q.text(2),
@@ -320,9 +321,10 @@ std::vector<StaleJob> Store::reset_stale(const std::string& host, int self_pid, 
   }
   Stmt uj = db_.prepare("UPDATE jobs SET state='pending', owner_host=NULL, owner_pid=NULL, "
                         "heartbeat_at=NULL, updated_at=? WHERE id=? AND state='running'");
-  Stmt ua = db_.prepare("UPDATE attempts SET state='abandoned', failure_class='stale', finished_at=?, "
-                        "error_text=? "
-                        "WHERE job_id=? AND state='running'");
+  Stmt ua =
+      db_.prepare("UPDATE attempts SET state='abandoned', failure_class='stale', finished_at=?, "
+                  "error_text=? "
+                  "WHERE job_id=? AND state='running'");
   for (const auto& s : stale) {
     uj.bind(1, now).bind(2, s.id).run();
     ua.bind(1, now).bind(2, s.reason).bind(3, s.id).run();
@@ -447,8 +449,9 @@ void Store::heartbeat(const std::vector<std::pair<std::int64_t, std::optional<do
 std::map<std::string, std::size_t> Store::state_counts(std::int64_t study_id,
                                                        const std::string& tier) {
   std::map<std::string, std::size_t> out;
-  Stmt q = db_.prepare("SELECT j.state, count(*) FROM study_jobs sj JOIN jobs j ON j.id = "
-                       "sj.job_id WHERE sj.study_id=? AND sj.tier=? AND sj.current GROUP BY j.state");
+  Stmt q =
+      db_.prepare("SELECT j.state, count(*) FROM study_jobs sj JOIN jobs j ON j.id = "
+                  "sj.job_id WHERE sj.study_id=? AND sj.tier=? AND sj.current GROUP BY j.state");
   q.bind(1, study_id).bind(2, tier);
   while (q.step())
     out[q.text(0)] = static_cast<std::size_t>(q.integer(1));

@@ -89,9 +89,8 @@ public:
     }
     study_.definition_sha256 = sha256_hex(text);
 
-    static const std::vector<std::string> top = {"study", "params",  "sweep", "zip",
-                                                 "figures",
-                                                 "cases", "derived", "tiers"};
+    static const std::vector<std::string> top = {"study",   "params", "sweep",   "zip",
+                                                 "figures", "cases",  "derived", "tiers"};
     for (auto&& [k, v] : root) {
       std::string key(k.str());
       if (std::find(top.begin(), top.end(), key) == top.end())

@@ -113,8 +113,15 @@ CaseInfo make_checkpoint_demo_case() {
       {"steps", ParamType::Int, std::int64_t{2000}, "time steps", 1.0, 1e9},
       {"dt", ParamType::Real, 0.05, "time step", 0.0, 1.0, true},
       {"alpha", ParamType::Real, 0.25, "quadratic spring nonlinearity", 0.0, 10.0},
-      {"step_sleep_us", ParamType::Int, std::int64_t{0},
-       "wall-clock pause per step, to make the job slow in tests", 0.0, 1e6, false, {}, false},
+      {"step_sleep_us",
+       ParamType::Int,
+       std::int64_t{0},
+       "wall-clock pause per step, to make the job slow in tests",
+       0.0,
+       1e6,
+       false,
+       {},
+       false},
   };
   c.run = run_checkpoint_demo;
   return c;

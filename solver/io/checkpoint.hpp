@@ -8,8 +8,8 @@
 //
 //   io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
 //   if (auto s = ck.load({"x", "v"})) { step = s->step; t = s->time; x = s->arrays["x"]; ... }
-//   for (; step < n; ++step) { ...; if (ck.due(step + 1)) ck.save({step + 1, t, {{"x", x}, ...}}); }
-//   ck.discard(); // optional, once the job's results are final
+//   for (; step < n; ++step) { ...; if (ck.due(step + 1)) ck.save({step + 1, t, {{"x", x}, ...}});
+//   } ck.discard(); // optional, once the job's results are final
 #pragma once
 
 #include <chrono>

@@ -21,7 +21,8 @@ const std::vector<SchemeInfo>& scheme_registry() {
 
 const SchemeInfo* find_scheme(const std::string& name) {
   for (const auto& s : scheme_registry())
-    if (s.name == name) return &s;
+    if (s.name == name)
+      return &s;
   return nullptr;
 }
 

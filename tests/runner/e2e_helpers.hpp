@@ -33,8 +33,8 @@ inline std::string read_file(const std::filesystem::path& p) {
 }
 
 // Runs `runner ARGS` (a shell command line) in dir with extra environment assignments.
-inline CmdResult run_runner(const TempDir& dir, const std::string& args, const std::string& env = "",
-                            const std::string& out_name = "out.txt") {
+inline CmdResult run_runner(const TempDir& dir, const std::string& args,
+                            const std::string& env = "", const std::string& out_name = "out.txt") {
   std::string cmd = "cd '" + dir.path().string() + "' && " + env + " '" RUNNER_EXE "' " + args +
                     " > " + out_name + " 2>&1";
   int status = std::system(cmd.c_str());

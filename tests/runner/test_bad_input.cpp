@@ -21,9 +21,9 @@ n_side = [8, 9]
 )";
 
 struct Bad {
-  std::string what;     // description of the mistake
-  std::string study;    // study file text ("" : no file written, args only)
-  std::string args;     // command line after `runner`; {f} is the study file
+  std::string what;                // description of the mistake
+  std::string study;               // study file text ("" : no file written, args only)
+  std::string args;                // command line after `runner`; {f} is the study file
   std::vector<std::string> expect; // substrings of the error output
   int code = 2;
 };

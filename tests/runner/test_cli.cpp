@@ -79,7 +79,8 @@ n_side = [8, 10]
 lattice = ["uniform", "disordered"]
 )");
   ASSERT_EQ(run_runner(dir, "s.toml").code, 0);
-  auto all = run_runner(dir, "table lat --rows n_side --cols visc --value err --agg count --format csv");
+  auto all =
+      run_runner(dir, "table lat --rows n_side --cols visc --value err --agg count --format csv");
   EXPECT_CONTAINS(all.out, "8,2,2\n");
   auto u = run_runner(dir, "table lat --rows n_side --cols visc --value err --agg count --format "
                            "csv --where lattice=uniform");

@@ -130,14 +130,15 @@ TEST(Resilience, TwoRunnersAndPollingReadersNeverRunAJobTwice) {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
       continue;
     }
-    for (const char* cmd : {"status", "status forty",
-                            "query \"SELECT state, count(*) FROM jobs GROUP BY state\"",
-                            "table forty --rows n_side --cols visc --value err"}) {
+    for (const char* cmd :
+         {"status", "status forty", "query \"SELECT state, count(*) FROM jobs GROUP BY state\"",
+          "table forty --rows n_side --cols visc --value err"}) {
       auto r = run_runner(dir, cmd, "", "reader.txt");
       ++reads;
       // A table before the first result has no values yet (exit 1 with a clear message).
-      bool ok = r.code == 0 || (std::string(cmd).rfind("table", 0) == 0 &&
-                                r.out.find("no values of metric") != std::string::npos) ||
+      bool ok = r.code == 0 ||
+                (std::string(cmd).rfind("table", 0) == 0 &&
+                 r.out.find("no values of metric") != std::string::npos) ||
                 r.out.find("no study named 'forty'") != std::string::npos;
       if (!ok) {
         ++failed_reads;

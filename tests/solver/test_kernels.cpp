@@ -44,7 +44,8 @@ void check_kernel(const std::string& name) {
 
     // Antisymmetry of the gradient: grad_i W(r_i - r_j) = -grad_j W(r_j - r_i).
     Vec<D> rij;
-    for (int a = 0; a < D; ++a) rij[a] = 0.3 + 0.2 * a;
+    for (int a = 0; a < D; ++a)
+      rij[a] = 0.3 + 0.2 * a;
     const double r = rij.norm();
     const Vec<D> gi = W.dW(r) / r * rij, gj = W.dW(r) / r * Vec<D>(-rij);
     EXPECT_LT((gi + gj).norm(), 1e-15 * gi.norm());

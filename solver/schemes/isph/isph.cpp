@@ -85,8 +85,7 @@ SchemeInfo make_isph_scheme() {
       {"shift_velocity", ParamType::Bool, d.shift_velocity,
        "correct the velocity of a shifted particle by u += grad u . dr"},
       {"wall_clearance", ParamType::Real, d.wall_clearance,
-       "minimum fluid-to-wall-particle distance / dx enforced after each step (0: off)", 0.0,
-       1.0},
+       "minimum fluid-to-wall-particle distance / dx enforced after each step (0: off)", 0.0, 1.0},
   };
   return s;
 }
