@@ -1,6 +1,7 @@
 // End-to-end tests of the `runner` binary on tiny patch_test studies in temporary directories:
 // full run and resume, CSV queries, rejected studies leave the database untouched, crashes,
 // timeouts and NaNs are recorded while the sweep goes on, kill -9 and SIGINT mid-sweep.
+#include "e2e_helpers.hpp"
 #include "helpers.hpp"
 #include "sqlite.hpp"
 
@@ -19,30 +20,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// Runs `runner ARGS` in dir with extra environment assignments; stdout+stderr captured.
-Result run(const TempDir& dir, const std::string& args, const std::string& env = "") {
-  std::string cmd = "cd '" + dir.path().string() + "' && " + env + " '" RUNNER_EXE "' " + args +
-                    " > out.txt 2>&1";
-  int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(dir / "out.txt")};
-}
-
-std::int64_t sql_int(const fs::path& db, const std::string& sql) {
-  Db d(db.string(), SQLITE_OPEN_READONLY);
-  sqlite3_busy_timeout(d.handle(), 5000);
-  return d.scalar_int(sql);
+// `runner ARGS` in dir, stdout+stderr captured (e2e_helpers.hpp).
+CmdResult run(const TempDir& dir, const std::string& args, const std::string& env = "") {
+  return run_runner(dir, args, env);
 }
 
 const char* tiny_study = R"([study]

@@ -1,6 +1,7 @@
 // End-to-end tests of `runner report` on tiny patch_test studies: the page and its figures, only
 // changed figures are redrawn, diverged jobs are marked, the page without gnuplot, invalid
 // [[figures]] rejected with file:line by both `runner report` and `runner run`.
+#include "e2e_helpers.hpp"
 #include "helpers.hpp"
 #include "io/hdf5.hpp"
 #include "sqlite.hpp"
@@ -18,23 +19,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-Result run(const TempDir& dir, const std::string& args, const std::string& env = "") {
-  std::string cmd = "cd '" + dir.path().string() + "' && " + env + " '" RUNNER_EXE "' " + args +
-                    " > out.txt 2>&1";
-  int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(dir / "out.txt")};
+// `runner ARGS` in dir, stdout+stderr captured (e2e_helpers.hpp).
+CmdResult run(const TempDir& dir, const std::string& args, const std::string& env = "") {
+  return run_runner(dir, args, env);
 }
 
 bool have_gnuplot() {
