@@ -30,10 +30,14 @@
 //   acoustic sub-steps), time_per_particle_adv_step_s, n_particles
 // With an output directory, <output_dir>/taylor_green.h5 holds the per-step series
 // (series/t, ke, ke_exact, umax, umax_exact, tv_max, tv_ratio, sumW_spread) and final fields.
+// With a checkpoint directory the run saves its whole state every N steps / M seconds and on
+// cancellation, and resumes from it bit for bit (tests/solver/test_wcsph_tvf.cpp).
 #include "cases/case.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
+#include "io/checkpoint.hpp"
 #include "io/hdf5.hpp"
+#include "io/particle_checkpoint.hpp"
 #include "schemes/wcsph_tvf/scheme_info.hpp"
 
 #include <chrono>
@@ -120,8 +124,43 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
   RunResult res;
   double t = 0.0, tv_ratio_max = 0.0, spread_max = 0.0;
   long steps = 0;
+
+  // Checkpoints (io/checkpoint.hpp): every particle field, the scheme's carried state, this
+  // loop's state and the series so far. A resumed run continues bit for bit: the saved particles
+  // are in cell order, so re-sorting them in init() is the identity.
+  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
+  const std::vector<std::string> series_names{"tg/t",     "tg/ke", "tg/ke_ex", "tg/um",
+                                              "tg/um_ex", "tg/tv", "tg/ratio", "tg/spread"};
+  const std::vector<std::vector<double>*> series{&s_t,     &s_ke, &s_ke_ex, &s_um,
+                                                 &s_um_ex, &s_tv, &s_ratio, &s_spread};
+  std::vector<std::string> ck_names = io::particle_array_names(p);
+  ck_names.insert(ck_names.end(), series_names.begin(), series_names.end());
+  ck_names.insert(ck_names.end(), {"tg/loop", "tg/scheme"});
+  if (auto s = ck.load(ck_names)) {
+    io::restore_particle_arrays(p, s->arrays);
+    scheme.init();
+    scheme.restore_carried_state(s->arrays.at("tg/scheme"));
+    for (std::size_t k = 0; k < series.size(); ++k)
+      *series[k] = s->arrays.at(series_names[k]);
+    const auto& loop = s->arrays.at("tg/loop");
+    t = s->time, steps = s->step, tv_ratio_max = loop.at(0), spread_max = loop.at(1);
+    res.message =
+        "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
+  }
+  auto save_checkpoint = [&] {
+    io::CheckpointState s{steps, t, {}};
+    io::add_particle_arrays(p, s.arrays);
+    for (std::size_t k = 0; k < series.size(); ++k)
+      s.arrays[series_names[k]] = *series[k];
+    s.arrays["tg/loop"] = {tv_ratio_max, spread_max};
+    s.arrays["tg/scheme"] = scheme.carried_state();
+    ck.save(s);
+  };
+
   while (t < t_end * (1.0 - 1e-12)) {
     if (ctx.cancelled()) {
+      if (ck.enabled())
+        save_checkpoint();
       res.status = RunStatus::Cancelled;
       res.message = "cancelled at t = " + std::to_string(t);
       return res;
@@ -148,6 +187,8 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
     s_t.push_back(t), s_ke.push_back(ke), s_ke_ex.push_back(ke0 * std::exp(2.0 * b * t));
     s_um.push_back(um), s_um_ex.push_back(U * std::exp(b * t));
     s_tv.push_back(info.tv_max), s_ratio.push_back(ratio), s_spread.push_back(spread);
+    if (ck.due(steps))
+      save_checkpoint();
     ctx.report(t / t_end);
   }
   const double wall = std::chrono::duration<double>(clock::now() - t0).count();
@@ -221,6 +262,7 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
     w.write_columns("fields", {"x", "y", "ux", "uy", "p"}, {fx, fy, fu, fv, fp});
     w.close();
   }
+  ck.discard(); // the results are final
   return res;
 }
 

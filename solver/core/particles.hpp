@@ -70,6 +70,12 @@ public:
   std::vector<Vec<D>>& vector(int k) { return vectors_[k].data; }
   const std::vector<Vec<D>>& vector(int k) const { return vectors_[k].data; }
 
+  // The extra fields by position (names as given to add_scalar / add_vector), for checkpoints.
+  int scalar_count() const { return static_cast<int>(scalars_.size()); }
+  int vector_count() const { return static_cast<int>(vectors_.size()); }
+  const std::string& scalar_name(int k) const { return scalars_[k].name; }
+  const std::string& vector_name(int k) const { return vectors_[k].name; }
+
   // new[i] = old[perm[i]] for every field.
   void reorder(const std::vector<std::uint32_t>& perm) {
     gather(r, perm, vbuf_), gather(v, perm, vbuf_);

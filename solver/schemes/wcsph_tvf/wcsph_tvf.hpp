@@ -67,6 +67,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -356,6 +357,19 @@ public:
   const std::vector<double>& sum_w() const { return sumW_; }
   const std::vector<Vec<D>>& tvf_shift() const { return shift_; }
   long acoustic_steps() const { return acoustic_steps_; }
+  // What the scheme carries from one advection step to the next besides the particle fields
+  // (for checkpoints): the last step's peak acceleration (advection criterion) and the sub-step
+  // count. Restore after init().
+  std::vector<double> carried_state() const {
+    return {a_last_max_, static_cast<double>(acoustic_steps_)};
+  }
+  void restore_carried_state(const std::vector<double>& s) {
+    if (s.size() != 2)
+      throw std::runtime_error("wcsph_tvf: checkpoint state has " + std::to_string(s.size()) +
+                               " values, expected 2");
+    a_last_max_ = s[0];
+    acoustic_steps_ = static_cast<long>(s[1]);
+  }
 
   // Sum_j W_ij (self term included) on the neighbour list of the current positions (valid
   // between advection steps: the list is rebuilt at the end of each).
