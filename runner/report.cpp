@@ -281,13 +281,19 @@ void sample_references(const FigureSpec& f, FigureReport& r, const std::vector<c
   }
 }
 
-FigureReport build_metric_figure(const FigureSpec& f, const std::vector<Job>& all) {
-  FigureReport r;
-  r.data.spec = &f;
+// The jobs a figure draws: those its `where` selects that have finished (any final state).
+std::vector<const Job*> finished_jobs_of(const FigureSpec& f, const std::vector<Job>& all) {
   std::vector<const Job*> jobs;
   for (const auto& j : all)
     if (matches(f, j) && j.state != "pending" && j.state != "running" && j.state != "submitted")
       jobs.push_back(&j);
+  return jobs;
+}
+
+FigureReport build_metric_figure(const FigureSpec& f, const std::vector<Job>& all) {
+  FigureReport r;
+  r.data.spec = &f;
+  const std::vector<const Job*> jobs = finished_jobs_of(f, all);
   r.jobs_used = jobs.size();
   // Groups and x values, in numeric order.
   std::map<std::vector<json>, std::size_t, JsonVecLess> group_index;
@@ -394,10 +400,7 @@ FigureReport build_metric_figure(const FigureSpec& f, const std::vector<Job>& al
 FigureReport build_series_figure(const FigureSpec& f, const std::vector<Job>& all) {
   FigureReport r;
   r.data.spec = &f;
-  std::vector<const Job*> jobs;
-  for (const auto& j : all)
-    if (matches(f, j) && j.state != "pending" && j.state != "running" && j.state != "submitted")
-      jobs.push_back(&j);
+  const std::vector<const Job*> jobs = finished_jobs_of(f, all);
   r.jobs_used = jobs.size();
   std::map<std::vector<json>, std::size_t, JsonVecLess> group_index;
   for (const Job* j : jobs) {

@@ -71,6 +71,23 @@ std::string damaged_message(const fs::path& path, const std::string& what, bool 
          "' .recover | sqlite3 recovered.sqlite";
 }
 
+namespace {
+// configure() and check_version() on a just-opened database, with SQLite's errors turned into the
+// runner's messages: a damaged file says so (and how to salvage it); anything else names the file
+// and ends with `advice`.
+void configure_checked(Db& db, const fs::path& path, const std::string& advice) {
+  try {
+    configure(db);
+    check_version(db, path);
+  } catch (const SqliteError& e) {
+    int primary = e.code() & 0xff;
+    if (primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB)
+      throw std::runtime_error(damaged_message(path, e.what()));
+    throw std::runtime_error("database '" + path.string() + "': " + e.what() + advice);
+  }
+}
+} // namespace
+
 Store Store::open_write(const fs::path& path, bool allow_network_fs) {
   if (std::error_code ec; fs::is_directory(path, ec))
     throw std::runtime_error("database path '" + path.string() + "' is a directory; --db takes a " +
@@ -108,16 +125,7 @@ Store Store::open_write(const fs::path& path, bool allow_network_fs) {
     fs::remove(tmp, ec);
   }
   Db db(path.string(), SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
-  try {
-    configure(db);
-    check_version(db, path);
-  } catch (const SqliteError& e) {
-    int primary = e.code() & 0xff;
-    if (primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB)
-      throw std::runtime_error(damaged_message(path, e.what()));
-    throw std::runtime_error("database '" + path.string() + "': " + e.what() +
-                             " (not touched; restore it from a backup or use another --db)");
-  }
+  configure_checked(db, path, " (not touched; restore it from a backup or use another --db)");
   // A damaged file is refused before anything is written to it. quick_check reads every page
   // (0.3 to 1 s for a 100,000-job, 110 MB database): it runs at every start for databases up to
   // 256 MB, and for larger ones when a -wal file is present at open (another runner is using it,
@@ -162,15 +170,7 @@ Store Store::open_read(const fs::path& path) {
     throw std::runtime_error("no database at '" + path.string() +
                              "' (run a study first, or pass --db)");
   Db db = Db::reader(path.string());
-  try {
-    configure(db);
-    check_version(db, path);
-  } catch (const SqliteError& e) {
-    int primary = e.code() & 0xff;
-    if (primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB)
-      throw std::runtime_error(damaged_message(path, e.what()));
-    throw std::runtime_error("database '" + path.string() + "': " + e.what());
-  }
+  configure_checked(db, path, "");
   if (user_version(db) == 0)
     throw std::runtime_error("'" + path.string() + "' is not a runner database (no schema)");
   return Store(std::move(db), path);

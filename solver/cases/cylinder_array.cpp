@@ -32,6 +32,7 @@
 //              the fluid, g M_fluid: 1 in a steady state
 // Cost: steps, wall_s, wall_per_step_s, n_fluid, n_solid.
 #include "cases/case.hpp"
+#include "cases/contact_step.hpp"
 #include "cases/materials.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
@@ -143,19 +144,8 @@ RunResult run_cylinder_array(const Params& prm, const RunContext& ctx) {
     const double sample_at[3] = {0.8, 0.9, 1.0};
     double U_k[3] = {0.0, 0.0, 0.0};
     while (next < 3) {
-      if (ctx.cancelled()) {
-        res.status = RunStatus::Cancelled;
-        res.message = "cancelled at t = " + std::to_string(t);
+      if (contact_step(scheme, t, t_end, ctx, res) == 0.0)
         return res;
-      }
-      const double dt = std::min(scheme.stable_dt(), t_end - t);
-      if (!(dt > 0.0) || !std::isfinite(dt)) {
-        res.status = RunStatus::Diverged;
-        res.message = "time step " + std::to_string(dt) + " at t = " + std::to_string(t);
-        return res;
-      }
-      scheme.step(dt);
-      t = (t_end - t - dt <= 1e-12 * t_end) ? t_end : t + dt;
       ++steps;
       if (steps % 100 == 0 || t >= sample_at[next] * t_end * (1.0 - 1e-12)) {
         for (std::size_t i = 0; i < p.size(); ++i)

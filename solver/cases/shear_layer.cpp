@@ -29,6 +29,7 @@
 // with material = custom it may set c0 instead.
 // Cost: steps, wall_s, wall_per_step_s, n_fluid, n_ghost, neighbors_mean.
 #include "cases/case.hpp"
+#include "cases/contact_step.hpp"
 #include "cases/materials.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
@@ -151,19 +152,9 @@ RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
     int next = 0;
     const double fit_at[5] = {0.6, 0.7, 0.8, 0.9, 1.0};
     while (next < 5) {
-      if (ctx.cancelled()) {
-        res.status = RunStatus::Cancelled;
-        res.message = "cancelled at t = " + std::to_string(t);
+      const double dt = contact_step(scheme, t, t_end, ctx, res);
+      if (dt == 0.0)
         return res;
-      }
-      const double dt = std::min(scheme.stable_dt(), t_end - t);
-      if (!(dt > 0.0) || !std::isfinite(dt)) {
-        res.status = RunStatus::Diverged;
-        res.message = "time step " + std::to_string(dt) + " at t = " + std::to_string(t);
-        return res;
-      }
-      scheme.step(dt);
-      t = (t_end - t - dt <= 1e-12 * t_end) ? t_end : t + dt;
       dt_sum += dt, ++steps;
       for (std::size_t i = 0; i < p.size(); ++i)
         if (p.kind[i] == Kind::Fluid)
