@@ -17,12 +17,21 @@
 // also counts the other processes), ppe_assembly_s_per_step, ppe_solve_s_per_step, ppe_share
 // (assembly + solve over the step, wall clock), ppe_iters_mean, ppe_residual (relative residual
 // of the last solve), wall_clearance_corrections (see isph.hpp), n_particles, n_fluid.
+//
+// Checkpoints (io/checkpoint.hpp, with a checkpoint directory): every particle field (the
+// pressure is the PPE's warm start), the scheme's counters, this loop's state (the steady-state
+// window, CPU and wall time so far) and the E_k history. A resumed job rebuilds the initial lattice
+// (so the scheme's reference density is the same), restores the particles and continues bit for
+// bit: the saved particles are in the order of the last neighbour search's cells plus that step's
+// motion, exactly what the uninterrupted run sorts next.
 #include "cases/cavity.hpp"
 
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/cavity_profiles.hpp"
+#include "io/checkpoint.hpp"
 #include "io/hdf5.hpp"
+#include "io/particle_checkpoint.hpp"
 #include "schemes/isph/isph.hpp"
 
 #include <chrono>
@@ -130,11 +139,47 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   const long out_every = std::max(1L, std::lround(out_dt / dt));
   const long steady_every = std::max(1L, std::lround(window / dt));
   double ke_prev = -1.0, ke_sum = 0.0, t = 0.0;
+  double cpu_before = 0.0, wall_before = 0.0; // spent by earlier attempts (checkpoints)
   bool steady = false;
   long n = 0;
+  std::string resumed;
+
+  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
+  const std::vector<std::string> hist_names{"cavity/t", "cavity/ke", "cavity/div", "cavity/iters"};
+  const std::vector<std::vector<double>*> hist{&h_t, &h_ke, &h_div, &h_it};
+  std::vector<std::string> ck_names = io::particle_array_names(p);
+  ck_names.insert(ck_names.end(), hist_names.begin(), hist_names.end());
+  ck_names.insert(ck_names.end(), {"cavity/loop", "cavity/scheme"});
+  if (auto s = ck.load(ck_names)) {
+    io::restore_particle_arrays(p, s->arrays);
+    solver.restore_carried_state(s->arrays.at("cavity/scheme"));
+    for (std::size_t k = 0; k < hist.size(); ++k)
+      *hist[k] = s->arrays.at(hist_names[k]);
+    const auto& loop = s->arrays.at("cavity/loop");
+    ke_prev = loop.at(0), ke_sum = loop.at(1), cpu_before = loop.at(2), wall_before = loop.at(3);
+    n = static_cast<long>(s->step), t = s->time;
+    resumed =
+        "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
+  }
   const std::clock_t cpu0 = std::clock();
-  for (n = 0; n < n_steps; ++n) {
+  auto cpu_so_far = [&] {
+    return cpu_before + static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  };
+  auto save_checkpoint = [&](long steps_done) {
+    io::CheckpointState s{steps_done, t, {}};
+    io::add_particle_arrays(p, s.arrays);
+    for (std::size_t k = 0; k < hist.size(); ++k)
+      s.arrays[hist_names[k]] = *hist[k];
+    const double wall = std::chrono::duration<double>(clock::now() - t_start).count();
+    s.arrays["cavity/loop"] = {ke_prev, ke_sum, cpu_so_far(), wall_before + wall};
+    s.arrays["cavity/scheme"] = solver.carried_state();
+    ck.save(s);
+  };
+
+  for (; n < n_steps; ++n) {
     if (ctx.cancelled()) {
+      if (ck.enabled())
+        save_checkpoint(n);
       res.status = RunStatus::Cancelled;
       res.message = "cancelled at t = " + std::to_string(t);
       return res;
@@ -176,8 +221,10 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
       }
       ke_prev = ke;
     }
+    if (ck.due(n + 1))
+      save_checkpoint(n + 1);
   }
-  const double cpu_loop = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  const double cpu_loop = cpu_so_far();
   // Final divergence of the last step's velocity (measured on the configuration it was made on).
   double div_max = solver.div_max();
   const double div_rms = solver.div_rms();
@@ -194,7 +241,7 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   const data::GhiaTable ghia = cylinder ? data::GhiaTable{} : data::ghia_table(Re);
   CavityProfiles prof = cavity_profile_metrics(p, kernel, use, in_solid, ghia, res);
 
-  const double wall = std::chrono::duration<double>(clock::now() - t_start).count();
+  const double wall = wall_before + std::chrono::duration<double>(clock::now() - t_start).count();
   const double steps = static_cast<double>(solver.steps());
   res.add("ke", kinetic_energy(p));
   res.add("div_max", div_max);
@@ -216,6 +263,8 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   res.add("n_particles", static_cast<double>(p.size()));
   res.add("n_fluid", static_cast<double>(n_fluid));
   res.message = steady ? "steady at t = " + std::to_string(t) : "reached t_end";
+  if (!resumed.empty())
+    res.message += "; " + resumed;
 
   if (!ctx.output_dir.empty()) {
     io::H5Writer w(ctx.output_dir /
@@ -241,6 +290,7 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
     w.write_columns("fields", {"x", "y", "ux", "uy", "p"}, {fx, fy, fu, fv, fp});
     w.close();
   }
+  ck.discard(); // the results are final
   return res;
 }
 

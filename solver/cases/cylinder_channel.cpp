@@ -49,12 +49,19 @@
 // HDF5 (<output_dir>/cylinder_channel.h5): series/{t,cd,cl,div_mean,div_max,iterations}, one
 // sample per `sample_interval` (mean of the steps in the interval),
 // cp/{theta,cp_mean}.
+// Checkpoints (io/checkpoint.hpp, with a checkpoint directory): the particles as they end a step
+// (their count changes: inflow, outflow, ghosts), the series, the averaging sums, the scheme's
+// timers and this loop's counters. A resumed job continues bit for bit (tested): each step
+// starts by dropping the ghosts and regenerating them, and the cell sort starts from the saved
+// order, as in the uninterrupted run.
 #include "cases/case.hpp"
 #include "core/cell_list.hpp"
 #include "core/kernels/quintic_spline.hpp"
 #include "core/neighbor_list.hpp"
 #include "diagnostics/signal.hpp"
+#include "io/checkpoint.hpp"
 #include "io/hdf5.hpp"
+#include "io/particle_checkpoint.hpp"
 #include "schemes/alsph/alsph.hpp"
 
 #include <chrono>
@@ -239,8 +246,73 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
   };
 
   const long n_steps = static_cast<long>(std::ceil(t_end / dt - 1e-9));
-  for (long step = 0; step < n_steps; ++step) {
+  double cpu_before = 0.0, wall_before = 0.0; // spent by earlier attempts (checkpoints)
+  std::string resumed;
+  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
+  const std::vector<std::string> series_names{"cc/t",   "cc/cd",     "cc/cl",
+                                              "cc/div", "cc/divmax", "cc/iters"};
+  const std::vector<std::vector<double>*> series{&ts, &cds, &cls, &divs, &divmax, &iters};
+  std::vector<std::string> ck_names = io::particle_array_names(p);
+  ck_names.insert(ck_names.end(), series_names.begin(), series_names.end());
+  ck_names.insert(ck_names.end(), {"cc/cp_sum", "cc/loop", "cc/scheme"});
+  if (auto sv = ck.load(ck_names)) {
+    io::restore_particle_arrays(p, sv->arrays);
+    for (std::size_t k = 0; k < series.size(); ++k)
+      *series[k] = sv->arrays.at(series_names[k]);
+    cp_sum = sv->arrays.at("cc/cp_sum");
+    scheme.restore_carried_state(sv->arrays.at("cc/scheme"));
+    const auto& a = sv->arrays.at("cc/loop");
+    if (a.size() != 19)
+      throw std::runtime_error("cylinder_channel: checkpoint loop state has " +
+                               std::to_string(a.size()) + " values, expected 19");
+    bin = Bin{a[0], a[1], a[2], a[3], a[4], a[5], static_cast<int>(a[6])};
+    next_sample = a[7], div_sum = a[8], divmax_sum = a[9];
+    settled_steps = static_cast<long>(a[10]), cp_time = a[11];
+    converged_steps = static_cast<long>(a[12]), total_iterations = static_cast<long>(a[13]);
+    search_s = a[14], n_max = static_cast<std::size_t>(a[15]);
+    next_id = static_cast<std::int64_t>(a[16]), cpu_before = a[17], wall_before = a[18];
+    steps = static_cast<long>(sv->step), t = sv->time;
+    resumed =
+        "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
+  }
+  auto cpu_so_far = [&] { return cpu_before + alsph::cpu_seconds() - cpu0; };
+  auto wall_so_far = [&] {
+    return wall_before +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  };
+  auto save_checkpoint = [&] {
+    io::CheckpointState sv{steps, t, {}};
+    io::add_particle_arrays(p, sv.arrays);
+    for (std::size_t k = 0; k < series.size(); ++k)
+      sv.arrays[series_names[k]] = *series[k];
+    sv.arrays["cc/cp_sum"] = cp_sum;
+    sv.arrays["cc/scheme"] = scheme.carried_state();
+    sv.arrays["cc/loop"] = {bin.t,
+                            bin.cd,
+                            bin.cl,
+                            bin.div,
+                            bin.divmax,
+                            bin.it,
+                            static_cast<double>(bin.n),
+                            next_sample,
+                            div_sum,
+                            divmax_sum,
+                            static_cast<double>(settled_steps),
+                            cp_time,
+                            static_cast<double>(converged_steps),
+                            static_cast<double>(total_iterations),
+                            search_s,
+                            static_cast<double>(n_max),
+                            static_cast<double>(next_id),
+                            cpu_so_far(),
+                            wall_so_far()};
+    ck.save(sv);
+  };
+
+  for (long step = steps; step < n_steps; ++step) {
     if (ctx.cancelled()) {
+      if (ck.enabled())
+        save_checkpoint();
       status = RunStatus::Cancelled;
       why = "cancelled";
       break;
@@ -358,6 +430,8 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
       why = os.str();
       break;
     }
+    if (ck.due(steps))
+      save_checkpoint();
     ctx.report(t / t_end);
   }
 
@@ -413,15 +487,14 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
   res.add("converged_fraction", steps ? double(converged_steps) / steps : 0.0);
   if (status == RunStatus::Diverged)
     res.add("t_diverged", t);
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const double wall = wall_so_far();
   const auto& tm = scheme.timers();
   res.add("wall_s", wall);
   res.add("steps", static_cast<double>(steps));
   res.add("t_end_reached", t);
   res.add("n_particles", static_cast<double>(n_max));
   res.add("dt", dt);
-  res.add("cpu_s", alsph::cpu_seconds() - cpu0);
+  res.add("cpu_s", cpu_so_far());
   if (steps > 0 && tm.particle_steps > 0) {
     // Costs in process CPU time. A "fresh search" is what a new neighbour configuration costs:
     // cell list + pair list with kernel values + V, Gamma. An inner iteration is eqs. (8)-(12)
@@ -429,7 +502,7 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     const double search_us = 1e6 * (search_s + tm.geometry) / tm.particle_steps;
     res.add("search_cpu_us_per_particle", search_us);
     res.add("shifting_cpu_us_per_particle", 1e6 * tm.shifting / tm.particle_steps);
-    res.add("cpu_us_per_particle_step", 1e6 * (alsph::cpu_seconds() - cpu0) / tm.particle_steps);
+    res.add("cpu_us_per_particle_step", 1e6 * cpu_so_far() / tm.particle_steps);
     if (tm.particle_iterations > 0) {
       const double it_us = 1e6 * tm.iterations / tm.particle_iterations;
       res.add("iteration_cpu_us_per_particle", it_us);
@@ -438,6 +511,8 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     }
   }
   res.message = why;
+  if (!resumed.empty())
+    res.message += (why.empty() ? "" : "; ") + resumed;
 
   if (!ctx.output_dir.empty()) {
     std::filesystem::create_directories(ctx.output_dir);
@@ -461,6 +536,8 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     w.close();
   }
   res.status = status;
+  if (status == RunStatus::Done)
+    ck.discard(); // the results are final
   return res;
 }
 

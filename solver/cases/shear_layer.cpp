@@ -28,17 +28,23 @@
 // Parameter impedance: a checked copy of rho0 c0 (the x axis of the eta_num-against-Z figure);
 // with material = custom it may set c0 instead.
 // Cost: steps, wall_s, wall_per_step_s, n_fluid, n_ghost, neighbors_mean.
+// Checkpoints (io/checkpoint.hpp, with a checkpoint directory): every particle field (ghosts
+// included), the scheme's search count and cell radius, the fits made so far and this loop's
+// sums. A resumed job continues bit for bit (tested).
 #include "cases/case.hpp"
 #include "cases/contact_step.hpp"
 #include "cases/materials.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/erf_fit.hpp"
+#include "io/checkpoint.hpp"
+#include "io/particle_checkpoint.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <omp.h>
+#include <sstream>
 #include <stdexcept>
 
 namespace sph {
@@ -147,11 +153,51 @@ RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
     };
 
     RunResult res;
-    double t = 0.0, dt_sum = 0.0, max_drho = 0.0;
+    double t = 0.0, dt_sum = 0.0, max_drho = 0.0, wall_before = 0.0;
     long steps = 0;
     int next = 0;
     const double fit_at[5] = {0.6, 0.7, 0.8, 0.9, 1.0};
+    auto wall_so_far = [&] {
+      return wall_before +
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    };
+
+    io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
+    const std::vector<std::string> fit_names{"sl/nu", "sl/nu_left", "sl/nu_right"};
+    const std::vector<std::vector<double>*> fits{&nu_k, &nul_k, &nur_k};
+    std::vector<std::string> ck_names = io::particle_array_names(p);
+    ck_names.insert(ck_names.end(), fit_names.begin(), fit_names.end());
+    ck_names.insert(ck_names.end(), {"sl/loop", "sl/scheme"});
+    std::string resumed;
+    if (auto sv = ck.load(ck_names)) {
+      io::restore_particle_arrays(p, sv->arrays);
+      scheme.restore_carried_state(sv->arrays.at("sl/scheme"));
+      for (std::size_t k = 0; k < fits.size(); ++k)
+        *fits[k] = sv->arrays.at(fit_names[k]);
+      const auto& a = sv->arrays.at("sl/loop");
+      if (a.size() != 5)
+        throw std::runtime_error("shear_layer: checkpoint loop state has " +
+                                 std::to_string(a.size()) + " values, expected 5");
+      dt_sum = a[0], max_drho = a[1], fit_rms = a[2], next = static_cast<int>(a[3]);
+      wall_before = a[4];
+      steps = static_cast<long>(sv->step), t = sv->time;
+      std::ostringstream os; // t is of order 1e-10 s
+      os << "resumed at t = " << t << " s, step " << steps << " (attempt " << ctx.attempt << ")";
+      resumed = os.str();
+    }
+    auto save_checkpoint = [&] {
+      io::CheckpointState sv{steps, t, {}};
+      io::add_particle_arrays(p, sv.arrays);
+      for (std::size_t k = 0; k < fits.size(); ++k)
+        sv.arrays[fit_names[k]] = *fits[k];
+      sv.arrays["sl/loop"] = {dt_sum, max_drho, fit_rms, static_cast<double>(next), wall_so_far()};
+      sv.arrays["sl/scheme"] = scheme.carried_state();
+      ck.save(sv);
+    };
+
     while (next < 5) {
+      if (ck.enabled() && ctx.cancelled())
+        save_checkpoint(); // contact_step below records the cancellation
       const double dt = contact_step(scheme, t, t_end, ctx, res);
       if (dt == 0.0)
         return res;
@@ -178,10 +224,11 @@ RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
         }
         ++next;
       }
+      if (ck.due(steps))
+        save_checkpoint();
       ctx.report(t / t_end);
     }
-    const double wall_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const double wall_s = wall_so_far();
 
     auto spread = [](const std::vector<double>& v) {
       double lo = v[0], hi = v[0], s = 0.0;
@@ -239,6 +286,9 @@ RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
       if (p.kind[i] == Kind::Fluid)
         pairs += nl.offset[i + 1] - nl.offset[i];
     res.add("neighbors_mean", pairs / n_fluid);
+    if (!resumed.empty())
+      res.message = resumed;
+    ck.discard(); // the results are final
     return res;
   });
 }

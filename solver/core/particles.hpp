@@ -51,6 +51,18 @@ public:
     return r.size() - 1;
   }
 
+  // Every field, extras included, to n particles (new ones zero-initialised, Kind::Fluid; for
+  // restoring a checkpoint of a case that adds and removes particles).
+  void resize(std::size_t n) {
+    r.resize(n, Vec<D>::Zero()), v.resize(n, Vec<D>::Zero()), m.resize(n, 0.0);
+    rho.resize(n, 0.0), p.resize(n, 0.0), V.resize(n, 0.0), kind.resize(n, Kind::Fluid);
+    id.resize(n, 0);
+    for (auto& f : scalars_)
+      f.data.resize(n, 0.0);
+    for (auto& f : vectors_)
+      f.data.resize(n, Vec<D>::Zero());
+  }
+
   void reserve(std::size_t n) {
     r.reserve(n), v.reserve(n), m.reserve(n), rho.reserve(n), p.reserve(n), V.reserve(n);
     kind.reserve(n), id.reserve(n);

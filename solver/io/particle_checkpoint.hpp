@@ -76,7 +76,8 @@ void add_particle_arrays(const Particles<D>& p, Arrays& out) {
     out["p/vector/" + p.vector_name(k)] = detail::flatten<D>(p.vector(k));
 }
 
-// Restores a particle set built with the same number of particles and the same extra fields.
+// Restores a particle set built with the same extra fields; it takes the saved particle count
+// (a case that adds and removes particles, such as an inflow, resumes with the count it saved).
 template <int D>
 void restore_particle_arrays(Particles<D>& p, const Arrays& in) {
   auto get = [&](const std::string& n) -> const std::vector<double>& {
@@ -85,6 +86,7 @@ void restore_particle_arrays(Particles<D>& p, const Arrays& in) {
       throw std::runtime_error("checkpoint: no array '" + n + "'");
     return it->second;
   };
+  p.resize(get("p/m").size());
   detail::unflatten<D>(get("p/r"), p.r, "p/r");
   detail::unflatten<D>(get("p/v"), p.v, "p/v");
   detail::copy_in(get("p/m"), p.m, "p/m"), detail::copy_in(get("p/rho"), p.rho, "p/rho");

@@ -33,6 +33,19 @@ Params demo_params(std::int64_t steps, std::int64_t sleep_us = 0) {
   return p;
 }
 
+// Every default of a case and of its first scheme.
+Params case_defaults(const std::string& name) {
+  const CaseInfo* c = find_case(name);
+  EXPECT_NE(c, nullptr);
+  Params p;
+  for (const auto& s : c->params)
+    p[s.name] = s.default_value;
+  for (const auto& s : find_scheme(c->schemes.at(0))->params)
+    p[s.name] = s.default_value;
+  p["scheme"] = c->schemes.at(0);
+  return p;
+}
+
 bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
@@ -123,14 +136,7 @@ TEST(Checkpoint, CancelledJobResumesToTheSameBits) {
 // A real scheme: the transport-velocity WCSPH Taylor-Green vortex (particles re-sorted by cell
 // every step, dual-criteria time steps) resumes from its checkpoint to the same bits.
 TEST(Checkpoint, TaylorGreenResumesToTheSameBits) {
-  const CaseInfo* c = find_case("taylor_green");
-  ASSERT_NE(c, nullptr);
-  Params p;
-  for (const auto& s : c->params)
-    p[s.name] = s.default_value;
-  for (const auto& s : find_scheme(c->schemes.at(0))->params)
-    p[s.name] = s.default_value;
-  p["scheme"] = c->schemes.at(0);
+  Params p = case_defaults("taylor_green");
   p["n_side"] = std::int64_t{20};
   p["t_end"] = 0.2;
   p["tvf"] = std::string("limited");
@@ -139,6 +145,56 @@ TEST(Checkpoint, TaylorGreenResumesToTheSameBits) {
       "taylor_green", p, 0.5, 7,
       {"wall_s", "time_per_particle_step_s", "time_per_particle_adv_step_s", "cpu_s"});
   EXPECT_CONTAINS(msg, "resumed at t = ");
+}
+
+// The ISPH lid-driven cavity (the longest jobs of the project: about an hour at dx = 0.01): the
+// PPE's warm start, the steady-state window and the E_k history come back with the particles.
+TEST(Checkpoint, IsphCavityResumesToTheSameBits) {
+  Params p = case_defaults("lid_driven_cavity");
+  p["dx"] = 0.05;
+  p["t_end"] = 0.3;
+  p["steady_window"] = 0.05; // several windows, one of them split by the checkpoint
+  p["output_interval"] = 0.02;
+  std::string msg =
+      expect_resume_is_exact("lid_driven_cavity", p, 0.5, 70,
+                             {"wall_time_s", "time_per_step_s", "cpu_time_per_step_s",
+                              "ppe_assembly_s_per_step", "ppe_solve_s_per_step", "ppe_share"});
+  EXPECT_CONTAINS(msg, "resumed at t = 0.160000"); // cancelled at the sample after 50 %
+}
+
+// ALSPH flow past a cylinder: the particle count changes every step (inflow, outflow, mirror
+// ghosts), and the force series and averaging sums are part of the state. Both algorithms.
+TEST(Checkpoint, AlsphCylinderChannelResumesToTheSameBits) {
+  for (std::int64_t algorithm : {1, 2}) {
+    Params p = case_defaults("cylinder_channel");
+    p["algorithm"] = algorithm;
+    p["D_over_dx"] = 6.0; // the studies' quick tier
+    p["channel_length"] = 6.0;
+    p["channel_height"] = 4.0;
+    p["upstream_length"] = 2.0;
+    p["dt_star"] = 2.54e-2;
+    p["t_end"] = 0.25; // 60 steps; averages over the last 30
+    std::string msg = expect_resume_is_exact(
+        "cylinder_channel", p, 0.7, 9, // cancelled after the settling time: the sums are running
+        {"wall_s", "cpu_s", "search_cpu_us_per_particle", "shifting_cpu_us_per_particle",
+         "cpu_us_per_particle_step", "iteration_cpu_us_per_particle", "refresh_cpu_us_per_particle",
+         "search_over_iteration"});
+    EXPECT_CONTAINS(msg, "resumed at t = 0.1778") << "algorithm " << algorithm;
+  }
+}
+
+// Contact SPH shear layer (the godunov studies' jobs, up to 20 min): particles and their mirror
+// ghosts, the cell radius, and the erf fits already made at 0.6 and 0.7 t_end.
+TEST(Checkpoint, ContactShearLayerResumesToTheSameBits) {
+  Params p = case_defaults("shear_layer");
+  p["dim"] = std::int64_t{2}; // the godunov_zeta quick tier
+  p["nx"] = std::int64_t{40};
+  p["ny"] = std::int64_t{8};
+  p["t_end"] = 3e-10;
+  p["zeta"] = 1.0;
+  std::string msg =
+      expect_resume_is_exact("shear_layer", p, 0.75, 40, {"wall_s", "wall_per_step_s"});
+  EXPECT_CONTAINS(msg, "resumed at t = 2.2");
 }
 
 // The runner is SIGKILLed while a long job runs (after its first checkpoints); the next run

@@ -39,6 +39,9 @@
 #include <cmath>
 #include <ctime>
 #include <omp.h>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace sph::alsph {
 
@@ -270,6 +273,25 @@ public:
 
   const Settings& settings() const { return s_; }
   const Timers& timers() const { return timers_; }
+
+  // What the scheme carries across steps (for checkpoints): only its timers and counters; the
+  // work arrays are recomputed from the particles at every step.
+  std::vector<double> carried_state() const {
+    const Timers& t = timers_;
+    return {t.geometry,
+            t.iterations,
+            t.refresh,
+            t.shifting,
+            static_cast<double>(t.evaluations),
+            t.particle_iterations,
+            t.particle_steps};
+  }
+  void restore_carried_state(const std::vector<double>& c) {
+    if (c.size() != 7)
+      throw std::runtime_error("alsph: checkpoint state has " + std::to_string(c.size()) +
+                               " values, expected 7");
+    timers_ = Timers{c[0], c[1], c[2], c[3], static_cast<long>(c[4]), c[5], c[6]};
+  }
 
   // Per-particle work arrays (sized to the particle count at each step; no allocation once the
   // count has reached its maximum). Public for diagnostics: after step(), div holds <div u>,

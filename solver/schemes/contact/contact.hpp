@@ -63,6 +63,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -277,6 +278,21 @@ public:
   const NeighborList<D>& neighbors() const { return nl_; }
   const Work<D>& work() const { return w_; }
   std::size_t searches() const { return searches_; }
+
+  // What the scheme carries across steps besides the particle fields (for checkpoints): the
+  // search count and the cell list's radius (it is re-created only when particles grow, so a
+  // resumed run must sort with the same cells). Restore after init() and the particles; every
+  // step starts from the particles alone.
+  std::vector<double> carried_state() const {
+    return {static_cast<double>(searches_), cells_ ? cells_->support() : 0.0};
+  }
+  void restore_carried_state(const std::vector<double>& c) {
+    if (c.size() != 2)
+      throw std::runtime_error("contact: checkpoint state has " + std::to_string(c.size()) +
+                               " values, expected 2");
+    searches_ = static_cast<std::size_t>(c[0]);
+    cells_ = c[1] > 0.0 ? std::make_unique<CellList<D>>(box_, c[1]) : nullptr;
+  }
 
 private:
   Particles<D>& p_;

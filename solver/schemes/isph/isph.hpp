@@ -332,6 +332,37 @@ public:
     ++steps_;
   }
 
+  // What the scheme carries from one step to the next besides the particle fields (for
+  // checkpoints): its counters, accumulated timings and last divergence measurement. The pressure,
+  // the PPE's warm start, is a particle field; the reference density rho0 is that of the initial
+  // lattice, which a resumed job rebuilds before restoring the particles. Restore after
+  // construction.
+  std::vector<double> carried_state() const {
+    std::vector<double> s{static_cast<double>(steps_),
+                          static_cast<double>(iters_total_),
+                          static_cast<double>(clearance_corrections_),
+                          time_step_,
+                          time_assemble_,
+                          time_solve_,
+                          static_cast<double>(last_iters_),
+                          div_max_,
+                          div_rms_};
+    for (int k = 0; k < D; ++k)
+      s.push_back(div_argmax_[k]);
+    return s;
+  }
+  void restore_carried_state(const std::vector<double>& s) {
+    if (s.size() != 9 + D)
+      throw std::runtime_error("isph: checkpoint state has " + std::to_string(s.size()) +
+                               " values, expected " + std::to_string(9 + D));
+    steps_ = static_cast<long>(s[0]), iters_total_ = static_cast<long>(s[1]);
+    clearance_corrections_ = static_cast<long>(s[2]);
+    time_step_ = s[3], time_assemble_ = s[4], time_solve_ = s[5];
+    last_iters_ = static_cast<int>(s[6]), div_max_ = s[7], div_rms_ = s[8];
+    for (int k = 0; k < D; ++k)
+      div_argmax_[k] = s[9 + k];
+  }
+
   // Recomputes the wall velocities of the current configuration (for diagnostics).
   void update_wall_velocity() {
     rebuild();
