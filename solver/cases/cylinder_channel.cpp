@@ -32,6 +32,11 @@
 // gets a transverse component perturbation * U * exp(-|x - x_c - (D, 0)|^2 / D^2) (parameter
 // `perturbation`, default 0.05; 0 for the symmetric start). The periodic state does not depend on
 // it; only the onset time does.
+// Start: impulsive by default (u = U everywhere at t = 0, also next to the no-slip cylinder); with
+// `ramp_time` T > 0 the fluid starts at rest and the inlet velocity rises as
+// U_in(t) = U (1 - cos(pi t / T)) / 2 for t < T, the fluid driven by the uniform body force
+// dU_in/dt (an incompressible channel accelerates as a whole: without it the inlet buffer runs
+// into resting fluid and piles up). The nudge is added as before.
 // Metrics (averages over t >= settle_fraction t_end): cd_mean (eq. 21), cl_rms (eq. 23), St = f D/U
 // of C_L (zero crossings; st_cycles periods; St_spectral from the periodogram peak), cd_amplitude,
 // cl_amplitude (half peak-to-peak), div_mean (mean over steps of the mean |div u| over fluid),
@@ -147,11 +152,15 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
   const double t_settle = get_real(prm, "settle_fraction") * t_end;
   const double speed_bound = get_real(prm, "speed_bound");
   const double perturbation = get_real(prm, "perturbation");
+  const double ramp_time = get_real(prm, "ramp_time");
   const int nx = static_cast<int>(std::lround(get_real(prm, "channel_length") / dx));
   const int ny = static_cast<int>(std::lround(get_real(prm, "channel_height") / dx));
   const double L = nx * dx, H = ny * dx;
   const V2 c(get_real(prm, "upstream_length"), 0.5 * H);
   const double R = 0.5, U = 1.0, rho = 1.0, nu = U * 1.0 / Re;
+  auto inflow_speed = [&](double time) {
+    return time < ramp_time ? 0.5 * U * (1.0 - std::cos(std::numbers::pi * time / ramp_time)) : U;
+  };
 
   alsph::Settings s;
   s.c_bv = get_real(prm, "c_bv");
@@ -204,7 +213,7 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
       // Symmetry breaking (see header): a transverse nudge centred one D behind the cylinder.
       const V2 w = x - c - V2(1.0, 0.0);
       add(x, i < 0 ? Kind::Buffer : Kind::Fluid,
-          V2(U, i < 0 ? 0.0 : perturbation * U * std::exp(-w.squaredNorm())));
+          V2(inflow_speed(0.0), i < 0 ? 0.0 : perturbation * U * std::exp(-w.squaredNorm())));
     }
   }
 
@@ -329,12 +338,17 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     for (std::size_t i = 0; i < n0; ++i) {
       if (p.kind[i] == Kind::Buffer && p.r[i][0] >= 0.0 && p.r[i][0] < 0.5 * L) {
         p.kind[i] = Kind::Fluid;
-        const std::size_t k = add(V2(p.r[i][0] - Lb, p.r[i][1]), Kind::Buffer, V2(U, 0.0));
+        const std::size_t k =
+            add(V2(p.r[i][0] - Lb, p.r[i][1]), Kind::Buffer, V2(inflow_speed(t + dt), 0.0));
         p.p[k] = p.p[i];
       } else if (p.kind[i] == Kind::Fluid && p.r[i][0] >= L) {
         p.kind[i] = Kind::Buffer;
       }
     }
+    if (t < ramp_time) // smooth start: the inlet buffer moves at this step's inflow speed
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (p.kind[i] == Kind::Buffer && p.r[i][0] < 0.0)
+          p.v[i] = V2(inflow_speed(t + dt), 0.0);
     // 3. Mirror ghosts of every particle within one support of the top or bottom wall.
     const std::size_t n1 = p.size();
     ghost_src_old.assign(n1, -1);
@@ -375,7 +389,13 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
       ghosts.add(static_cast<std::uint32_t>(i), src, 1, p.r[src][1] < 0.5 * H ? 0.0 : H);
     }
     // 6. ALSPH step.
-    const alsph::StepStats st = scheme.step(p, nl, ghosts, p.vector(normal), buffer_pressure);
+    // Smooth start: the whole channel accelerates with the inlet (a uniform body force equal to
+    // the inflow's acceleration at mid-step; the cylinder feels it through the pressure).
+    const V2 g = t < ramp_time ? V2(0.5 * U * std::numbers::pi / ramp_time *
+                                        std::sin(std::numbers::pi * (t + 0.5 * dt) / ramp_time),
+                                    0.0)
+                               : V2::Zero();
+    const alsph::StepStats st = scheme.step(p, nl, ghosts, p.vector(normal), buffer_pressure, g);
     t = (step + 1) * dt;
     ++steps;
     total_iterations += st.iterations;
@@ -564,6 +584,10 @@ CaseInfo make_cylinder_channel_case() {
       {"perturbation", ParamType::Real, 0.05,
        "initial transverse velocity nudge behind the cylinder, in U (breaks the symmetry)", 0.0,
        1.0},
+      {"ramp_time", ParamType::Real, 0.0,
+       "smooth start: fluid at rest, inlet speed U (1 - cos(pi t / T)) / 2 up to T (in D/U; 0: "
+       "impulsive start, u = U everywhere)",
+       0.0, 1e4},
       {"speed_bound", ParamType::Real, 10.0, "diverged when max |u| exceeds this many U", 1.0, 1e6},
       {"sample_interval", ParamType::Real, 0.02,
        "time series sample interval in D/U (each sample averages the steps of its interval)", 0.0,
