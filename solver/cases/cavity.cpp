@@ -266,35 +266,42 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   if (!resumed.empty())
     res.message += "; " + resumed;
 
-  if (!ctx.output_dir.empty()) {
-    io::H5Writer w(ctx.output_dir /
-                   (std::string(cylinder ? "cavity_cylinder" : "lid_driven_cavity") + ".h5"));
-    w.attribute("scheme", std::string("isph"));
-    w.attribute("visc", get_string(prm, "visc"));
-    w.attribute("Re", Re);
-    w.attribute("dx", dx);
-    w.attribute("t_stop", t);
-    w.write_columns("history", {"t", "ke", "div_max", "ppe_iters"}, {h_t, h_ke, h_div, h_it});
-    w.write_columns("profile_x0.5", {"y", "ux"}, {prof.y_line, prof.ux_line});
-    w.write_columns("profile_y0.5", {"x", "uy"}, {prof.x_line, prof.uy_line});
-    // Pressure relative to its fluid mean (the level of a closed cavity is arbitrary).
-    std::vector<double> fx, fy, fu, fv, fp;
-    double p_mean = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.kind[i] == Kind::Fluid)
-        fx.push_back(p.r[i].x()), fy.push_back(p.r[i].y()), fu.push_back(p.v[i].x()),
-            fv.push_back(p.v[i].y()), fp.push_back(p.p[i]), p_mean += p.p[i];
-    p_mean /= static_cast<double>(fp.size());
-    for (auto& x : fp)
-      x -= p_mean;
-    w.write_columns("fields", {"x", "y", "ux", "uy", "p"}, {fx, fy, fu, fv, fp});
-    w.close();
-  }
+  if (!ctx.output_dir.empty())
+    write_cavity_h5(ctx.output_dir /
+                        (std::string(cylinder ? "cavity_cylinder" : "lid_driven_cavity") + ".h5"),
+                    {{{"scheme", "isph"}, {"visc", get_string(prm, "visc")}},
+                     {{"Re", Re}, {"dx", dx}, {"t_stop", t}}},
+                    {"t", "ke", "div_max", "ppe_iters"}, {h_t, h_ke, h_div, h_it}, prof, p);
   ck.discard(); // the results are final
   return res;
 }
 
 } // namespace
+
+void write_cavity_h5(const std::filesystem::path& file, const CavityAttributes& attrs,
+                     const std::vector<std::string>& history_names,
+                     const std::vector<std::vector<double>>& history, const CavityProfiles& prof,
+                     const Particles<2>& p) {
+  io::H5Writer w(file);
+  for (const auto& [k, v] : attrs.text)
+    w.attribute(k, v);
+  for (const auto& [k, v] : attrs.number)
+    w.attribute(k, v);
+  w.write_columns("history", history_names, history);
+  w.write_columns("profile_x0.5", {"y", "ux"}, {prof.y_line, prof.ux_line});
+  w.write_columns("profile_y0.5", {"x", "uy"}, {prof.x_line, prof.uy_line});
+  std::vector<double> fx, fy, fu, fv, fp;
+  double p_mean = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == Kind::Fluid)
+      fx.push_back(p.r[i].x()), fy.push_back(p.r[i].y()), fu.push_back(p.v[i].x()),
+          fv.push_back(p.v[i].y()), fp.push_back(p.p[i]), p_mean += p.p[i];
+  p_mean /= static_cast<double>(std::max<std::size_t>(fp.size(), 1));
+  for (auto& x : fp)
+    x -= p_mean;
+  w.write_columns("fields", {"x", "y", "ux", "uy", "p"}, {fx, fy, fu, fv, fp});
+  w.close();
+}
 
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder) {
   auto it = prm.find("scheme");
@@ -307,6 +314,8 @@ RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder) {
       return run_cavity_isph(prm, ctx, cylinder, kernel, opt);
     });
   }
+  if (scheme == "wcsph_tvf")
+    return run_cavity_wcsph_tvf(prm, ctx, cylinder);
   throw std::invalid_argument("cavity: unknown scheme '" + scheme + "'");
 }
 

@@ -13,6 +13,11 @@
 
 #include "cases/case.hpp"
 #include "core/particles.hpp"
+#include "diagnostics/cavity_profiles.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
 
 namespace sph {
 
@@ -31,5 +36,20 @@ int build_cavity(Particles<2>& p, const CavityGeometry& g);
 std::vector<ParamSpec> cavity_params(bool cylinder);
 
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder);
+
+// The run of scheme "wcsph_tvf" (cavity_wcsph_tvf.cpp).
+RunResult run_cavity_wcsph_tvf(const Params& prm, const RunContext& ctx, bool cylinder);
+
+// The HDF5 file of a cavity job, <output_dir>/<case>.h5: the attributes, the history (named
+// columns), the fine-line profiles and the final fluid fields (pressure relative to its fluid
+// mean: the level of a closed cavity is arbitrary).
+struct CavityAttributes {
+  std::vector<std::pair<std::string, std::string>> text;
+  std::vector<std::pair<std::string, double>> number;
+};
+void write_cavity_h5(const std::filesystem::path& file, const CavityAttributes& attrs,
+                     const std::vector<std::string>& history_names,
+                     const std::vector<std::vector<double>>& history, const CavityProfiles& prof,
+                     const Particles<2>& p);
 
 } // namespace sph

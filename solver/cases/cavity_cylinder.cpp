@@ -11,7 +11,7 @@ CaseInfo make_cavity_cylinder_case() {
   c.name = "cavity_cylinder";
   c.description = "Lid-driven cavity with a centred cylinder d = 0.5 L (Zheng, Ma & Shao 2018, "
                   "5.2)";
-  c.schemes = {"isph"};
+  c.schemes = {"isph", "wcsph_tvf"};
   c.params = cavity_params(true);
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cavity(prm, ctx, true); };
   return c;

@@ -10,7 +10,7 @@ CaseInfo make_lid_driven_cavity_case() {
   CaseInfo c;
   c.name = "lid_driven_cavity";
   c.description = "Lid-driven square cavity vs Ghia et al. 1982 (Zheng, Ma & Shao 2018, 5.1)";
-  c.schemes = {"isph"};
+  c.schemes = {"isph", "wcsph_tvf"};
   c.params = cavity_params(false);
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cavity(prm, ctx, false); };
   return c;

@@ -33,16 +33,18 @@ Params demo_params(std::int64_t steps, std::int64_t sleep_us = 0) {
   return p;
 }
 
-// Every default of a case and of its first scheme.
-Params case_defaults(const std::string& name) {
+// Every default of a case and of one of its schemes (default: its first).
+Params case_defaults(const std::string& name, std::string scheme = "") {
   const CaseInfo* c = find_case(name);
   EXPECT_NE(c, nullptr);
+  if (scheme.empty())
+    scheme = c->schemes.at(0);
   Params p;
   for (const auto& s : c->params)
     p[s.name] = s.default_value;
-  for (const auto& s : find_scheme(c->schemes.at(0))->params)
+  for (const auto& s : find_scheme(scheme)->params)
     p[s.name] = s.default_value;
-  p["scheme"] = c->schemes.at(0);
+  p["scheme"] = scheme;
   return p;
 }
 
@@ -160,6 +162,20 @@ TEST(Checkpoint, IsphCavityResumesToTheSameBits) {
                              {"wall_time_s", "time_per_step_s", "cpu_time_per_step_s",
                               "ppe_assembly_s_per_step", "ppe_solve_s_per_step", "ppe_share"});
   EXPECT_CONTAINS(msg, "resumed at t = 0.160000"); // cancelled at the sample after 50 %
+}
+
+// The same cavity with the transport-velocity WCSPH (dual-criteria steps of varying size).
+TEST(Checkpoint, WcsphTvfCavityResumesToTheSameBits) {
+  Params p = case_defaults("lid_driven_cavity", "wcsph_tvf");
+  p["dx"] = 0.05;
+  p["Re"] = 1000.0;
+  p["t_end"] = 0.5;
+  p["steady_window"] = 0.1;
+  p["output_interval"] = 0.05;
+  std::string msg = expect_resume_is_exact(
+      "lid_driven_cavity", p, 0.5, 11,
+      {"wall_time_s", "time_per_step_s", "cpu_time_per_step_s", "time_per_particle_step_s"});
+  EXPECT_CONTAINS(msg, "resumed at t = 0.25");
 }
 
 // ALSPH flow past a cylinder: the particle count changes every step (inflow, outflow, mirror

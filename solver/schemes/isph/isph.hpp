@@ -3,7 +3,8 @@
 //
 // One step, the stages in order (N particles, one neighbour search per step):
 //   1. cell list + cached neighbour list on r_t (reorders all particle fields);
-//   2. wall velocities for no-slip (Adami, Hu & Adams 2012, J. Comput. Phys. 231, eqs. 22-23):
+//   2. wall velocities for no-slip (Adami, Hu & Adams 2012, J. Comput. Phys. 231, eqs. 22-23;
+//      operators/wall_velocity.hpp):
 //      u_w = 2 u_prescribed - sum_f u_f W_wf / sum_f W_wf, the fluid velocity mirrored about the
 //      wall's prescribed velocity (lid: U0, other walls and bodies: 0);
 //   3. prediction, eqs. (7)-(8): u_* = u_t + nu lap u_t dt, lap u by VISC-01..04 (eqs. 15-20,
@@ -50,6 +51,7 @@
 #include "operators/correction_matrix.hpp"
 #include "operators/interact.hpp"
 #include "operators/viscous_laplacian.hpp"
+#include "operators/wall_velocity.hpp"
 #include "schemes/isph/ppe_solver.hpp"
 
 #include <algorithm>
@@ -89,26 +91,6 @@ namespace isph_ops {
 inline bool is_fluid(Kind k) {
   return k == Kind::Fluid;
 }
-
-// Stage 2: wall velocity u_w = 2 u_prescribed - Shepard average of the fluid (Adami 2012).
-template <int D>
-struct WallVelocity {
-  const std::vector<Kind>& kind;
-  const std::vector<Vec<D>>& v_wall;
-  std::vector<Vec<D>>& v;
-  struct Acc {
-    Vec<D> s = Vec<D>::Zero();
-    double w = 0.0;
-  };
-  Acc init(std::size_t) const { return {}; }
-  void pair(std::size_t, const Pair<D>& q, Acc& a) const {
-    if (is_fluid(kind[q.j]))
-      a.s += q.W * v[q.j], a.w += q.W;
-  }
-  void finish(std::size_t i, const Acc& a) {
-    v[i] = a.w > 0.0 ? Vec<D>(2.0 * v_wall[i] - a.s / a.w) : v_wall[i];
-  }
-};
 
 // Stage 4: rho*_i = m_i W(0) + sum_j m_j W(|r_ij + dt (um_i - um_j)|), um the moving velocity.
 template <int D, class Kernel>
@@ -240,7 +222,7 @@ public:
     rebuild();
     const auto& vw = p_.vector(v_wall_);
     // 2. no-slip wall velocities
-    isph_ops::WallVelocity<D> wv{p_.kind, vw, p_.v};
+    WallVelocity<D> wv{p_.kind, vw, p_.v};
     interact(nl_, wv, solid);
     // 3. prediction (eqs. 7-8)
     CorrectionMatrix<D> cm{p_.V, gamma_, trb_};
@@ -366,7 +348,7 @@ public:
   // Recomputes the wall velocities of the current configuration (for diagnostics).
   void update_wall_velocity() {
     rebuild();
-    isph_ops::WallVelocity<D> wv{p_.kind, p_.vector(v_wall_), p_.v};
+    WallVelocity<D> wv{p_.kind, p_.vector(v_wall_), p_.v};
     interact(nl_, wv, [this](std::size_t i) { return !isph_ops::is_fluid(p_.kind[i]); });
   }
 

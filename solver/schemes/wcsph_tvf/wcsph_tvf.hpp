@@ -469,7 +469,7 @@ private:
     else if (s == "viscous_force")
       viscous_force();
     else if (s == "transport")
-      transport(Dt, info);
+      transport(info);
     else if (s == "acoustic")
       acoustic(Dt, info);
     else if (s == "neighbours")
@@ -507,7 +507,7 @@ private:
   }
 
   // Eqs. (14)-(16) once per advection step, or Adami's a~ for the sub-steps.
-  void transport(double Dt, StepInfo& info) {
+  void transport(StepInfo& info) {
     const std::size_t N = p_.size();
     if (o_.tvf == Tvf::None) {
       std::fill(shift_.begin(), shift_.end(), Vec<D>::Zero());
