@@ -78,7 +78,13 @@ std::vector<ParamSpec> cavity_params(bool cylinder) {
   std::vector<ParamSpec> s = {
       {"Re", ParamType::Real, 1000.0, "Reynolds number U0 L / nu (U0 = L = 1)", 0.0, {}, true},
       {"dx", ParamType::Real, 0.01, "particle spacing (1/dx must be an integer)", 0.0, 0.25, true},
-      {"dt", ParamType::Real, 0.001, "time step", 0.0, {}, true},
+      {"dt",
+       ParamType::Real,
+       0.001,
+       "time step (isph; wcsph_tvf takes its own dual-criteria steps)",
+       0.0,
+       {},
+       true},
       {"t_end", ParamType::Real, 40.0, "end time unless steady earlier", 0.0, {}, true},
       {"steady_tol", ParamType::Real, 5e-4,
        "stop when the means of E_k over two consecutive windows differ by less than steady_tol "
