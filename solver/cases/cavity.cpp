@@ -268,27 +268,30 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   res.add("wall_clearance_corrections", static_cast<double>(solver.clearance_corrections()));
   res.add("n_particles", static_cast<double>(p.size()));
   res.add("n_fluid", static_cast<double>(n_fluid));
-  res.message = steady ? "steady at t = " + std::to_string(t) : "reached t_end";
-  if (!resumed.empty())
-    res.message += "; " + resumed;
-
-  if (!ctx.output_dir.empty())
-    write_cavity_h5(ctx.output_dir /
-                        (std::string(cylinder ? "cavity_cylinder" : "lid_driven_cavity") + ".h5"),
-                    {{{"scheme", "isph"}, {"visc", get_string(prm, "visc")}},
-                     {{"Re", Re}, {"dx", dx}, {"t_stop", t}}},
-                    {"t", "ke", "div_max", "ppe_iters"}, {h_t, h_ke, h_div, h_it}, prof, p);
+  res.message = cavity_run_message(steady, t, resumed);
+  write_cavity_h5(ctx.output_dir, cylinder,
+                  {{{"scheme", "isph"}, {"visc", get_string(prm, "visc")}},
+                   {{"Re", Re}, {"dx", dx}, {"t_stop", t}}},
+                  {"t", "ke", "div_max", "ppe_iters"}, {h_t, h_ke, h_div, h_it}, prof, p);
   ck.discard(); // the results are final
   return res;
 }
 
 } // namespace
 
-void write_cavity_h5(const std::filesystem::path& file, const CavityAttributes& attrs,
-                     const std::vector<std::string>& history_names,
+std::string cavity_run_message(bool steady, double t, const std::string& resumed) {
+  std::string m = steady ? "steady at t = " + std::to_string(t) : "reached t_end";
+  return resumed.empty() ? m : m + "; " + resumed;
+}
+
+void write_cavity_h5(const std::filesystem::path& output_dir, bool cylinder,
+                     const CavityAttributes& attrs, const std::vector<std::string>& history_names,
                      const std::vector<std::vector<double>>& history, const CavityProfiles& prof,
                      const Particles<2>& p) {
-  io::H5Writer w(file);
+  if (output_dir.empty())
+    return;
+  io::H5Writer w(output_dir /
+                 (std::string(cylinder ? "cavity_cylinder" : "lid_driven_cavity") + ".h5"));
   for (const auto& [k, v] : attrs.text)
     w.attribute(k, v);
   for (const auto& [k, v] : attrs.number)

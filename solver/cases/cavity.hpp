@@ -40,15 +40,18 @@ RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder);
 // The run of scheme "wcsph_tvf" (cavity_wcsph_tvf.cpp).
 RunResult run_cavity_wcsph_tvf(const Params& prm, const RunContext& ctx, bool cylinder);
 
-// The HDF5 file of a cavity job, <output_dir>/<case>.h5: the attributes, the history (named
-// columns), the fine-line profiles and the final fluid fields (pressure relative to its fluid
-// mean: the level of a closed cavity is arbitrary).
+// The end of a cavity run, common to its schemes: the job's message ("steady at t = ..." or
+// "reached t_end", then how it resumed), and the HDF5 file <output_dir>/<case>.h5 (nothing
+// without an output directory): the attributes, the history (named columns), the fine-line
+// profiles and the final fluid fields (pressure relative to its fluid mean: the level of a closed
+// cavity is arbitrary).
+std::string cavity_run_message(bool steady, double t, const std::string& resumed);
 struct CavityAttributes {
   std::vector<std::pair<std::string, std::string>> text;
   std::vector<std::pair<std::string, double>> number;
 };
-void write_cavity_h5(const std::filesystem::path& file, const CavityAttributes& attrs,
-                     const std::vector<std::string>& history_names,
+void write_cavity_h5(const std::filesystem::path& output_dir, bool cylinder,
+                     const CavityAttributes& attrs, const std::vector<std::string>& history_names,
                      const std::vector<std::vector<double>>& history, const CavityProfiles& prof,
                      const Particles<2>& p);
 

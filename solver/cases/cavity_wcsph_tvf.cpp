@@ -152,10 +152,7 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
       res.message = "cancelled at t = " + std::to_string(t);
       return res;
     }
-    const double Dt_ad = scheme.advection_dt(), rem = t_end - t;
-    const double Dt = rem <= Dt_ad ? rem : (rem < 2.0 * Dt_ad ? 0.5 * rem : Dt_ad);
-    scheme.advance(Dt, Dt_ad);
-    t = (t_end - t - Dt <= 1e-12 * t_end) ? t_end : t + Dt;
+    const double Dt = scheme.advance_towards(t, t_end).Dt;
     ++steps;
     double vmax = 0.0, drho = 0.0;
     fluid_extremes(vmax, drho);
@@ -217,16 +214,11 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   res.add("density_dev_max", drho_max);
   res.add("n_particles", N);
   res.add("n_fluid", static_cast<double>(n_fluid));
-  res.message = steady ? "steady at t = " + std::to_string(t) : "reached t_end";
-  if (!resumed.empty())
-    res.message += "; " + resumed;
-
-  if (!ctx.output_dir.empty())
-    write_cavity_h5(ctx.output_dir /
-                        (std::string(cylinder ? "cavity_cylinder" : "lid_driven_cavity") + ".h5"),
-                    {{{"scheme", "wcsph_tvf"}, {"tvf", get_string(prm, "tvf")}},
-                     {{"Re", Re}, {"dx", dx}, {"t_stop", t}}},
-                    {"t", "ke", "density_dev"}, {h_t, h_ke, h_drho}, prof, p);
+  res.message = cavity_run_message(steady, t, resumed);
+  write_cavity_h5(ctx.output_dir, cylinder,
+                  {{{"scheme", "wcsph_tvf"}, {"tvf", get_string(prm, "tvf")}},
+                   {{"Re", Re}, {"dx", dx}, {"t_stop", t}}},
+                  {"t", "ke", "density_dev"}, {h_t, h_ke, h_drho}, prof, p);
   ck.discard(); // the results are final
   return res;
 }

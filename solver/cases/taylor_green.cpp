@@ -165,11 +165,7 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
       res.message = "cancelled at t = " + std::to_string(t);
       return res;
     }
-    // Land on t_end without a sliver of a last step: the last two steps share what remains.
-    const double Dt_ad = scheme.advection_dt(), rem = t_end - t;
-    const double Dt = rem <= Dt_ad ? rem : (rem < 2.0 * Dt_ad ? 0.5 * rem : Dt_ad);
-    const wcsph_tvf::StepInfo info = scheme.advance(Dt, Dt_ad);
-    t = (t_end - t - Dt <= 1e-12 * t_end) ? t_end : t + Dt;
+    const wcsph_tvf::StepInfo info = scheme.advance_towards(t, t_end);
     ++steps;
     const double ke = kinetic(), um = umax();
     if (!std::isfinite(ke) || um > 10.0 * U) {

@@ -431,6 +431,17 @@ public:
     return info;
   }
 
+  // One advection step from t towards t_end (t is advanced): the criterion's step, except that the
+  // last two steps share what remains, so that the run lands exactly on t_end without a sliver of
+  // a last step.
+  StepInfo advance_towards(double& t, double t_end) {
+    const double Dt_ad = advection_dt(), rem = t_end - t;
+    const double Dt = rem <= Dt_ad ? rem : (rem < 2.0 * Dt_ad ? 0.5 * rem : Dt_ad);
+    const StepInfo info = advance(Dt, Dt_ad);
+    t = (t_end - t - Dt <= 1e-12 * t_end) ? t_end : t + Dt;
+    return info;
+  }
+
   bool fluid(std::size_t i) const {
     return p_.kind[i] == Kind::Fluid;
   }
