@@ -29,7 +29,6 @@
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/cavity_profiles.hpp"
-#include "io/checkpoint.hpp"
 #include "io/hdf5.hpp"
 #include "io/particle_checkpoint.hpp"
 #include "schemes/isph/isph.hpp"
@@ -150,20 +149,19 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   long n = 0;
   std::string resumed;
 
-  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
-  const std::vector<std::string> hist_names{"cavity/t", "cavity/ke", "cavity/div", "cavity/iters"};
-  const std::vector<std::vector<double>*> hist{&h_t, &h_ke, &h_div, &h_it};
-  std::vector<std::string> ck_names = io::particle_array_names(p);
-  ck_names.insert(ck_names.end(), hist_names.begin(), hist_names.end());
-  ck_names.insert(ck_names.end(), {"cavity/loop", "cavity/scheme"});
-  if (auto s = ck.load(ck_names)) {
-    io::restore_particle_arrays(p, s->arrays);
-    solver.restore_carried_state(s->arrays.at("cavity/scheme"));
-    for (std::size_t k = 0; k < hist.size(); ++k)
-      *hist[k] = s->arrays.at(hist_names[k]);
-    const auto& loop = s->arrays.at("cavity/loop");
+  std::vector<double> loop, carried;
+  io::LoopCheckpoint<2> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
+                           p,
+                           {{"cavity/t", &h_t},
+                            {"cavity/ke", &h_ke},
+                            {"cavity/div", &h_div},
+                            {"cavity/iters", &h_it},
+                            {"cavity/loop", &loop},
+                            {"cavity/scheme", &carried}});
+  if (auto at = ck.restore()) {
+    solver.restore_carried_state(carried);
     ke_prev = loop.at(0), ke_sum = loop.at(1), cpu_before = loop.at(2), wall_before = loop.at(3);
-    n = static_cast<long>(s->step), t = s->time;
+    n = static_cast<long>(at->first), t = at->second;
     resumed =
         "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
   }
@@ -172,14 +170,10 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
     return cpu_before + static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   };
   auto save_checkpoint = [&](long steps_done) {
-    io::CheckpointState s{steps_done, t, {}};
-    io::add_particle_arrays(p, s.arrays);
-    for (std::size_t k = 0; k < hist.size(); ++k)
-      s.arrays[hist_names[k]] = *hist[k];
     const double wall = std::chrono::duration<double>(clock::now() - t_start).count();
-    s.arrays["cavity/loop"] = {ke_prev, ke_sum, cpu_so_far(), wall_before + wall};
-    s.arrays["cavity/scheme"] = solver.carried_state();
-    ck.save(s);
+    loop = {ke_prev, ke_sum, cpu_so_far(), wall_before + wall};
+    carried = solver.carried_state();
+    ck.save(steps_done, t);
   };
 
   for (; n < n_steps; ++n) {

@@ -26,7 +26,6 @@
 #include "core/cell_list.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/neighbor_list.hpp"
-#include "io/checkpoint.hpp"
 #include "io/particle_checkpoint.hpp"
 #include "operators/wall_velocity.hpp"
 #include "schemes/wcsph_tvf/scheme_info.hpp"
@@ -104,25 +103,23 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   bool steady = false;
   std::string resumed;
 
-  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
-  const std::vector<std::string> hist_names{"cavity/t", "cavity/ke", "cavity/drho"};
-  const std::vector<std::vector<double>*> hist{&h_t, &h_ke, &h_drho};
-  std::vector<std::string> ck_names = io::particle_array_names(p);
-  ck_names.insert(ck_names.end(), hist_names.begin(), hist_names.end());
-  ck_names.insert(ck_names.end(), {"cavity/loop", "cavity/scheme"});
-  if (auto s = ck.load(ck_names)) {
-    io::restore_particle_arrays(p, s->arrays);
+  std::vector<double> a, carried; // the loop's scalars, the scheme's state
+  io::LoopCheckpoint<2> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
+                           p,
+                           {{"cavity/t", &h_t},
+                            {"cavity/ke", &h_ke},
+                            {"cavity/drho", &h_drho},
+                            {"cavity/loop", &a},
+                            {"cavity/scheme", &carried}});
+  if (auto at = ck.restore()) {
     scheme.init();
-    scheme.restore_carried_state(s->arrays.at("cavity/scheme"));
-    for (std::size_t k = 0; k < hist.size(); ++k)
-      *hist[k] = s->arrays.at(hist_names[k]);
-    const auto& a = s->arrays.at("cavity/loop");
+    scheme.restore_carried_state(carried);
     if (a.size() != 7)
       throw std::runtime_error("cavity (wcsph_tvf): checkpoint loop state has " +
                                std::to_string(a.size()) + " values, expected 7");
     next_out = a[0], win_sum = a[1], win_span = a[2], ke_prev = a[3], drho_max = a[4];
     cpu_before = a[5], wall_before = a[6];
-    steps = static_cast<long>(s->step), t = s->time;
+    steps = static_cast<long>(at->first), t = at->second;
     resumed =
         "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
   }
@@ -134,14 +131,9 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
     return wall_before + std::chrono::duration<double>(clock::now() - t_start).count();
   };
   auto save_checkpoint = [&] {
-    io::CheckpointState s{steps, t, {}};
-    io::add_particle_arrays(p, s.arrays);
-    for (std::size_t k = 0; k < hist.size(); ++k)
-      s.arrays[hist_names[k]] = *hist[k];
-    s.arrays["cavity/loop"] = {next_out, win_sum,      win_span,     ke_prev,
-                               drho_max, cpu_so_far(), wall_so_far()};
-    s.arrays["cavity/scheme"] = scheme.carried_state();
-    ck.save(s);
+    a = {next_out, win_sum, win_span, ke_prev, drho_max, cpu_so_far(), wall_so_far()};
+    carried = scheme.carried_state();
+    ck.save(steps, t);
   };
 
   while (t < t_end * (1.0 - 1e-12)) {

@@ -64,7 +64,6 @@
 #include "core/kernels/quintic_spline.hpp"
 #include "core/neighbor_list.hpp"
 #include "diagnostics/signal.hpp"
-#include "io/checkpoint.hpp"
 #include "io/hdf5.hpp"
 #include "io/particle_checkpoint.hpp"
 #include "schemes/alsph/alsph.hpp"
@@ -257,20 +256,20 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
   const long n_steps = static_cast<long>(std::ceil(t_end / dt - 1e-9));
   double cpu_before = 0.0, wall_before = 0.0; // spent by earlier attempts (checkpoints)
   std::string resumed;
-  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
-  const std::vector<std::string> series_names{"cc/t",   "cc/cd",     "cc/cl",
-                                              "cc/div", "cc/divmax", "cc/iters"};
-  const std::vector<std::vector<double>*> series{&ts, &cds, &cls, &divs, &divmax, &iters};
-  std::vector<std::string> ck_names = io::particle_array_names(p);
-  ck_names.insert(ck_names.end(), series_names.begin(), series_names.end());
-  ck_names.insert(ck_names.end(), {"cc/cp_sum", "cc/loop", "cc/scheme"});
-  if (auto sv = ck.load(ck_names)) {
-    io::restore_particle_arrays(p, sv->arrays);
-    for (std::size_t k = 0; k < series.size(); ++k)
-      *series[k] = sv->arrays.at(series_names[k]);
-    cp_sum = sv->arrays.at("cc/cp_sum");
-    scheme.restore_carried_state(sv->arrays.at("cc/scheme"));
-    const auto& a = sv->arrays.at("cc/loop");
+  std::vector<double> a, carried; // the loop's scalars, the scheme's state
+  io::LoopCheckpoint<D> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
+                           p,
+                           {{"cc/t", &ts},
+                            {"cc/cd", &cds},
+                            {"cc/cl", &cls},
+                            {"cc/div", &divs},
+                            {"cc/divmax", &divmax},
+                            {"cc/iters", &iters},
+                            {"cc/cp_sum", &cp_sum},
+                            {"cc/loop", &a},
+                            {"cc/scheme", &carried}});
+  if (auto at = ck.restore()) {
+    scheme.restore_carried_state(carried);
     if (a.size() != 19)
       throw std::runtime_error("cylinder_channel: checkpoint loop state has " +
                                std::to_string(a.size()) + " values, expected 19");
@@ -280,7 +279,7 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     converged_steps = static_cast<long>(a[12]), total_iterations = static_cast<long>(a[13]);
     search_s = a[14], n_max = static_cast<std::size_t>(a[15]);
     next_id = static_cast<std::int64_t>(a[16]), cpu_before = a[17], wall_before = a[18];
-    steps = static_cast<long>(sv->step), t = sv->time;
+    steps = static_cast<long>(at->first), t = at->second;
     resumed =
         "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
   }
@@ -290,32 +289,27 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
            std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   };
   auto save_checkpoint = [&] {
-    io::CheckpointState sv{steps, t, {}};
-    io::add_particle_arrays(p, sv.arrays);
-    for (std::size_t k = 0; k < series.size(); ++k)
-      sv.arrays[series_names[k]] = *series[k];
-    sv.arrays["cc/cp_sum"] = cp_sum;
-    sv.arrays["cc/scheme"] = scheme.carried_state();
-    sv.arrays["cc/loop"] = {bin.t,
-                            bin.cd,
-                            bin.cl,
-                            bin.div,
-                            bin.divmax,
-                            bin.it,
-                            static_cast<double>(bin.n),
-                            next_sample,
-                            div_sum,
-                            divmax_sum,
-                            static_cast<double>(settled_steps),
-                            cp_time,
-                            static_cast<double>(converged_steps),
-                            static_cast<double>(total_iterations),
-                            search_s,
-                            static_cast<double>(n_max),
-                            static_cast<double>(next_id),
-                            cpu_so_far(),
-                            wall_so_far()};
-    ck.save(sv);
+    a = {bin.t,
+         bin.cd,
+         bin.cl,
+         bin.div,
+         bin.divmax,
+         bin.it,
+         static_cast<double>(bin.n),
+         next_sample,
+         div_sum,
+         divmax_sum,
+         static_cast<double>(settled_steps),
+         cp_time,
+         static_cast<double>(converged_steps),
+         static_cast<double>(total_iterations),
+         search_s,
+         static_cast<double>(n_max),
+         static_cast<double>(next_id),
+         cpu_so_far(),
+         wall_so_far()};
+    carried = scheme.carried_state();
+    ck.save(steps, t);
   };
 
   for (long step = steps; step < n_steps; ++step) {

@@ -37,7 +37,6 @@
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/erf_fit.hpp"
-#include "io/checkpoint.hpp"
 #include "io/particle_checkpoint.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
@@ -162,37 +161,31 @@ RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
              std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     };
 
-    io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
-    const std::vector<std::string> fit_names{"sl/nu", "sl/nu_left", "sl/nu_right"};
-    const std::vector<std::vector<double>*> fits{&nu_k, &nul_k, &nur_k};
-    std::vector<std::string> ck_names = io::particle_array_names(p);
-    ck_names.insert(ck_names.end(), fit_names.begin(), fit_names.end());
-    ck_names.insert(ck_names.end(), {"sl/loop", "sl/scheme"});
+    std::vector<double> a, carried; // the loop's scalars, the scheme's state
+    io::LoopCheckpoint<D> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
+                             p,
+                             {{"sl/nu", &nu_k},
+                              {"sl/nu_left", &nul_k},
+                              {"sl/nu_right", &nur_k},
+                              {"sl/loop", &a},
+                              {"sl/scheme", &carried}});
     std::string resumed;
-    if (auto sv = ck.load(ck_names)) {
-      io::restore_particle_arrays(p, sv->arrays);
-      scheme.restore_carried_state(sv->arrays.at("sl/scheme"));
-      for (std::size_t k = 0; k < fits.size(); ++k)
-        *fits[k] = sv->arrays.at(fit_names[k]);
-      const auto& a = sv->arrays.at("sl/loop");
+    if (auto at = ck.restore()) {
+      scheme.restore_carried_state(carried);
       if (a.size() != 5)
         throw std::runtime_error("shear_layer: checkpoint loop state has " +
                                  std::to_string(a.size()) + " values, expected 5");
       dt_sum = a[0], max_drho = a[1], fit_rms = a[2], next = static_cast<int>(a[3]);
       wall_before = a[4];
-      steps = static_cast<long>(sv->step), t = sv->time;
+      steps = static_cast<long>(at->first), t = at->second;
       std::ostringstream os; // t is of order 1e-10 s
       os << "resumed at t = " << t << " s, step " << steps << " (attempt " << ctx.attempt << ")";
       resumed = os.str();
     }
     auto save_checkpoint = [&] {
-      io::CheckpointState sv{steps, t, {}};
-      io::add_particle_arrays(p, sv.arrays);
-      for (std::size_t k = 0; k < fits.size(); ++k)
-        sv.arrays[fit_names[k]] = *fits[k];
-      sv.arrays["sl/loop"] = {dt_sum, max_drho, fit_rms, static_cast<double>(next), wall_so_far()};
-      sv.arrays["sl/scheme"] = scheme.carried_state();
-      ck.save(sv);
+      a = {dt_sum, max_drho, fit_rms, static_cast<double>(next), wall_so_far()};
+      carried = scheme.carried_state();
+      ck.save(steps, t);
     };
 
     while (next < 5) {

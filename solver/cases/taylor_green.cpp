@@ -35,7 +35,6 @@
 #include "cases/case.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
-#include "io/checkpoint.hpp"
 #include "io/hdf5.hpp"
 #include "io/particle_checkpoint.hpp"
 #include "schemes/wcsph_tvf/scheme_info.hpp"
@@ -128,33 +127,30 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
   // Checkpoints (io/checkpoint.hpp): every particle field, the scheme's carried state, this
   // loop's state and the series so far. A resumed run continues bit for bit: the saved particles
   // are in cell order, so re-sorting them in init() is the identity.
-  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
-  const std::vector<std::string> series_names{"tg/t",     "tg/ke", "tg/ke_ex", "tg/um",
-                                              "tg/um_ex", "tg/tv", "tg/ratio", "tg/spread"};
-  const std::vector<std::vector<double>*> series{&s_t,     &s_ke, &s_ke_ex, &s_um,
-                                                 &s_um_ex, &s_tv, &s_ratio, &s_spread};
-  std::vector<std::string> ck_names = io::particle_array_names(p);
-  ck_names.insert(ck_names.end(), series_names.begin(), series_names.end());
-  ck_names.insert(ck_names.end(), {"tg/loop", "tg/scheme"});
-  if (auto s = ck.load(ck_names)) {
-    io::restore_particle_arrays(p, s->arrays);
+  std::vector<double> loop, carried;
+  io::LoopCheckpoint<2> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
+                           p,
+                           {{"tg/t", &s_t},
+                            {"tg/ke", &s_ke},
+                            {"tg/ke_ex", &s_ke_ex},
+                            {"tg/um", &s_um},
+                            {"tg/um_ex", &s_um_ex},
+                            {"tg/tv", &s_tv},
+                            {"tg/ratio", &s_ratio},
+                            {"tg/spread", &s_spread},
+                            {"tg/loop", &loop},
+                            {"tg/scheme", &carried}});
+  if (auto at = ck.restore()) {
     scheme.init();
-    scheme.restore_carried_state(s->arrays.at("tg/scheme"));
-    for (std::size_t k = 0; k < series.size(); ++k)
-      *series[k] = s->arrays.at(series_names[k]);
-    const auto& loop = s->arrays.at("tg/loop");
-    t = s->time, steps = s->step, tv_ratio_max = loop.at(0), spread_max = loop.at(1);
+    scheme.restore_carried_state(carried);
+    steps = at->first, t = at->second, tv_ratio_max = loop.at(0), spread_max = loop.at(1);
     res.message =
         "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
   }
   auto save_checkpoint = [&] {
-    io::CheckpointState s{steps, t, {}};
-    io::add_particle_arrays(p, s.arrays);
-    for (std::size_t k = 0; k < series.size(); ++k)
-      s.arrays[series_names[k]] = *series[k];
-    s.arrays["tg/loop"] = {tv_ratio_max, spread_max};
-    s.arrays["tg/scheme"] = scheme.carried_state();
-    ck.save(s);
+    loop = {tv_ratio_max, spread_max};
+    carried = scheme.carried_state();
+    ck.save(steps, t);
   };
 
   while (t < t_end * (1.0 - 1e-12)) {
