@@ -7,7 +7,7 @@
 RUNNER="$1" SRC="$2"
 source "$(dirname "$0")/lib.sh"
 
-expect_jobs tvf_tgv "" 17
+expect_jobs tvf_tgv "" 21
 run_quick tvf_tgv
 [ "$(q "SELECT count(*) FROM jobs WHERE state = 'done'")" = 4 ] || fail "expected 4 done jobs"
 for m in ke_rate_rel_err ke_rel_err_end umax_rel_err_end tv_ratio_max sumW_spread_end sumW_rms_end; do
