@@ -77,6 +77,19 @@ struct RunResult {
   void add(const std::string& name, double value) { metrics.emplace_back(name, value); }
 };
 
+// The answer of a time loop to a request to stop (ctx.cancelled(): timeout, shutdown, scancel):
+// save() first (a case that checkpoints saves its state there; a no-op when checkpoints are off),
+// then res is marked Cancelled at time t. True when the loop must stop and return res.
+template <class Save>
+bool stop_if_cancelled(const RunContext& ctx, double t, RunResult& res, Save&& save) {
+  if (!ctx.cancelled())
+    return false;
+  save();
+  res.status = RunStatus::Cancelled;
+  res.message = "cancelled at t = " + std::to_string(t);
+  return true;
+}
+
 // A time integrator family (isph, wcsph_tvf, contact, alsph): its own parameters, shared by every
 // case it runs. A study names `scheme = "isph"`; the job's parameters are the case's plus the
 // scheme's, and Params carries the scheme's name under the key "scheme".

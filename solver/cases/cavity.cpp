@@ -73,6 +73,15 @@ int build_cavity(Particles<2>& p, const CavityGeometry& g) {
   return f;
 }
 
+CavityGeometry cavity_geometry(const Params& prm, bool cylinder, double support) {
+  CavityGeometry g;
+  g.dx = get_real(prm, "dx");
+  g.U0 = 1.0;
+  g.layers = static_cast<int>(std::ceil(support / g.dx - 1e-9));
+  g.cylinder_d = cylinder ? get_real(prm, "cylinder_d") : 0.0;
+  return g;
+}
+
 std::vector<ParamSpec> cavity_params(bool cylinder) {
   std::vector<ParamSpec> s = {
       {"Re", ParamType::Real, 1000.0, "Reynolds number U0 L / nu (U0 = L = 1)", 0.0, {}, true},
@@ -125,10 +134,7 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   const double out_dt = get_real(prm, "output_interval");
   const double U0 = 1.0, nu = U0 * 1.0 / Re;
 
-  CavityGeometry g;
-  g.dx = dx;
-  g.layers = static_cast<int>(std::ceil(kernel.support() / dx - 1e-9));
-  g.cylinder_d = cylinder ? get_real(prm, "cylinder_d") : 0.0;
+  const CavityGeometry g = cavity_geometry(prm, cylinder, kernel.support());
   Particles<2> p;
   const int vw = build_cavity(p, g);
   std::size_t n_fluid = 0;
@@ -177,13 +183,8 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
   };
 
   for (; n < n_steps; ++n) {
-    if (ctx.cancelled()) {
-      if (ck.enabled())
-        save_checkpoint(n);
-      res.status = RunStatus::Cancelled;
-      res.message = "cancelled at t = " + std::to_string(t);
+    if (stop_if_cancelled(ctx, t, res, [&] { save_checkpoint(n); }))
       return res;
-    }
     const bool sample = (n + 1) % out_every == 0 || n + 1 == n_steps;
     solver.set_measure_divergence(sample);
     try {

@@ -32,6 +32,10 @@ struct CavityGeometry {
 // particle's prescribed wall velocity (zero for fluid). Throws if 1/dx is not an integer.
 int build_cavity(Particles<2>& p, const CavityGeometry& g);
 
+// The geometry of a cavity job: dx and (with a cylinder) cylinder_d from its parameters, U0 = 1,
+// wall layers one kernel support deep.
+CavityGeometry cavity_geometry(const Params& prm, bool cylinder, double support);
+
 // The cases' own parameters (Re, dx, dt, t_end, steady-state criterion, output interval).
 std::vector<ParamSpec> cavity_params(bool cylinder);
 

@@ -57,11 +57,7 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   o.h = wcsph_tvf::h_over_dx(prm) * dx;
   const K kernel(o.h);
 
-  CavityGeometry g;
-  g.dx = dx;
-  g.U0 = U0;
-  g.layers = static_cast<int>(std::ceil(kernel.support() / dx - 1e-9));
-  g.cylinder_d = cylinder ? get_real(prm, "cylinder_d") : 0.0;
+  const CavityGeometry g = cavity_geometry(prm, cylinder, kernel.support());
   Particles<2> p;
   const int vw = build_cavity(p, g);
   std::size_t n_fluid = 0;
@@ -78,13 +74,6 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   wcsph_tvf::Scheme<2, K> scheme(p, f, box, o);
   scheme.init();
 
-  auto kinetic = [&]() {
-    double e = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.kind[i] == Kind::Fluid)
-        e += 0.5 * p.m[i] * p.v[i].squaredNorm();
-    return e;
-  };
   auto fluid_extremes = [&](double& vmax, double& drho) {
     vmax = 0.0, drho = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
@@ -96,7 +85,7 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   };
 
   RunResult res;
-  std::vector<double> h_t{0.0}, h_ke{kinetic()}, h_drho{0.0};
+  std::vector<double> h_t{0.0}, h_ke{kinetic_energy(p)}, h_drho{0.0};
   double t = 0.0, next_out = out_dt, win_sum = 0.0, win_span = 0.0, ke_prev = -1.0;
   double drho_max = 0.0, cpu_before = 0.0, wall_before = 0.0;
   long steps = 0;
@@ -137,13 +126,8 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   };
 
   while (t < t_end * (1.0 - 1e-12)) {
-    if (ctx.cancelled()) {
-      if (ck.enabled())
-        save_checkpoint();
-      res.status = RunStatus::Cancelled;
-      res.message = "cancelled at t = " + std::to_string(t);
+    if (stop_if_cancelled(ctx, t, res, save_checkpoint))
       return res;
-    }
     const double Dt = scheme.advance_towards(t, t_end).Dt;
     ++steps;
     double vmax = 0.0, drho = 0.0;
@@ -155,7 +139,7 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
       res.add("t_stop", t);
       return res;
     }
-    const double ke = kinetic();
+    const double ke = kinetic_energy(p);
     if (t >= next_out * (1.0 - 1e-12) || t >= t_end) {
       h_t.push_back(t), h_ke.push_back(ke), h_drho.push_back(drho);
       while (next_out <= t * (1.0 + 1e-12))
@@ -194,7 +178,7 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   const CavityProfiles prof = cavity_profile_metrics(p, kernel, use, in_solid, ghia, res);
 
   const double N = static_cast<double>(p.size()), n_steps = static_cast<double>(steps);
-  res.add("ke", kinetic());
+  res.add("ke", kinetic_energy(p));
   res.add("t_stop", t);
   res.add("steady", steady ? 1.0 : 0.0);
   res.add("steps", n_steps);

@@ -61,10 +61,12 @@ RunResult run_checkpoint_demo(const Params& prm, const RunContext& ctx) {
     res.message = "resumed from step " + std::to_string(step) + " (attempt " +
                   std::to_string(ctx.attempt) + ")";
   }
-  auto save = [&] { ck.save({step, t, {{"x", x}, {"v", v}, {"a", a}}}); };
+  auto save = [&](std::int64_t steps_done) {
+    ck.save({steps_done, t, {{"x", x}, {"v", v}, {"a", a}}});
+  };
   for (; step < steps; ++step) {
     if (ctx.cancelled()) {
-      save();
+      save(step);
       res.status = RunStatus::Cancelled;
       return res;
     }
@@ -76,11 +78,8 @@ RunResult run_checkpoint_demo(const Params& prm, const RunContext& ctx) {
     for (std::size_t i = 0; i < n; ++i)
       v[i] += 0.5 * dt * a[i];
     t += dt;
-    if (ck.due(step + 1)) {
-      ++step;
-      save();
-      --step;
-    }
+    if (ck.due(step + 1))
+      save(step + 1);
     ctx.report(static_cast<double>(step + 1) / static_cast<double>(steps));
     if (sleep_us > 0)
       std::this_thread::sleep_for(std::chrono::microseconds(sleep_us));

@@ -17,11 +17,8 @@ namespace sph {
 template <class Scheme>
 double contact_step(Scheme& scheme, double& t, double t_end, const RunContext& ctx,
                     RunResult& res) {
-  if (ctx.cancelled()) {
-    res.status = RunStatus::Cancelled;
-    res.message = "cancelled at t = " + std::to_string(t);
+  if (stop_if_cancelled(ctx, t, res, [] {}))
     return 0.0;
-  }
   const double dt = std::min(scheme.stable_dt(), t_end - t);
   if (!(dt > 0.0) || !std::isfinite(dt)) {
     res.status = RunStatus::Diverged;

@@ -314,8 +314,7 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
 
   for (long step = steps; step < n_steps; ++step) {
     if (ctx.cancelled()) {
-      if (ck.enabled())
-        save_checkpoint();
+      save_checkpoint();
       status = RunStatus::Cancelled;
       why = "cancelled";
       break;

@@ -35,6 +35,7 @@
 #include "cases/case.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
+#include "diagnostics/profiles.hpp"
 #include "io/hdf5.hpp"
 #include "io/particle_checkpoint.hpp"
 #include "schemes/wcsph_tvf/scheme_info.hpp"
@@ -94,20 +95,15 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
   scheme.init();
 
   const double b = -8.0 * std::numbers::pi * std::numbers::pi / Re;
-  auto kinetic = [&]() {
-    double e = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      e += 0.5 * p.m[i] * p.v[i].squaredNorm();
-    return e;
-  };
+  auto kinetic = [&]() { return kinetic_energy(p); }; // every particle is fluid
   auto umax = [&]() {
     double v = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
       v = std::max(v, p.v[i].norm());
     return v;
   };
-  auto sumw_stats = [&](double& spread, double& rms) {
-    const auto& s = scheme.sum_w();
+  // Spread and RMS of sum_j W_ij / sigma0 - 1 over the particles.
+  auto sumw_stats = [&](const std::vector<double>& s, double& spread, double& rms) {
     double lo = 1e300, hi = -1e300, sq = 0.0;
     for (double w : s) {
       const double x = w / scheme.sigma0();
@@ -154,13 +150,8 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
   };
 
   while (t < t_end * (1.0 - 1e-12)) {
-    if (ctx.cancelled()) {
-      if (ck.enabled())
-        save_checkpoint();
-      res.status = RunStatus::Cancelled;
-      res.message = "cancelled at t = " + std::to_string(t);
+    if (stop_if_cancelled(ctx, t, res, save_checkpoint))
       return res;
-    }
     const wcsph_tvf::StepInfo info = scheme.advance_towards(t, t_end);
     ++steps;
     const double ke = kinetic(), um = umax();
@@ -172,7 +163,7 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
     }
     // The density summation of this step measured the configuration the step started from.
     double spread = 0.0, rms = 0.0;
-    sumw_stats(spread, rms);
+    sumw_stats(scheme.sum_w(), spread, rms);
     spread_max = std::max(spread_max, spread);
     const double ratio = info.v_max > 0.0 ? info.tv_max / info.v_max : 0.0;
     tv_ratio_max = std::max(tv_ratio_max, ratio);
@@ -200,13 +191,7 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
   {
     std::vector<double> sw(p.size());
     scheme.number_density(sw);
-    double lo = 1e300, hi = -1e300, sq = 0.0;
-    for (double w : sw) {
-      const double x = w / scheme.sigma0();
-      lo = std::min(lo, x), hi = std::max(hi, x), sq += (x - 1.0) * (x - 1.0);
-    }
-    spread_end = hi - lo;
-    rms_end = std::sqrt(sq / static_cast<double>(sw.size()));
+    sumw_stats(sw, spread_end, rms_end);
     spread_max = std::max(spread_max, spread_end);
   }
   double l1 = 0.0, l1_ref = 0.0;

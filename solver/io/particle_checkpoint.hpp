@@ -140,7 +140,10 @@ public:
     return std::make_pair(s->step, s->time);
   }
 
+  // Nothing when checkpoints are off (no directory): the particles are not even packed.
   void save(std::int64_t step, double time) {
+    if (!enabled())
+      return;
     CheckpointState s{step, time, {}};
     add_particle_arrays(p_, s.arrays);
     for (const auto& [name, a] : arrays_)
