@@ -48,13 +48,7 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   const double out_dt = get_real(prm, "output_interval");
   const double U0 = 1.0, L = 1.0, rho0 = 1.0;
 
-  wcsph_tvf::Options o = wcsph_tvf::options_from(prm);
-  o.rho0 = rho0;
-  o.U_ref = U0;
-  o.c0 = wcsph_tvf::c0_factor(prm) * U0;
-  o.mu = rho0 * U0 * L / Re;
-  o.dx = dx;
-  o.h = wcsph_tvf::h_over_dx(prm) * dx;
+  const wcsph_tvf::Options o = wcsph_tvf::options_for_flow(prm, rho0, U0, L, Re, dx);
   const K kernel(o.h);
 
   const CavityGeometry g = cavity_geometry(prm, cylinder, kernel.support());

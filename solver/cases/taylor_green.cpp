@@ -65,13 +65,7 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
   const double perturb = get_real(prm, "perturb");
   const double L = 1.0, U = 1.0, rho0 = 1.0, dx = L / n;
 
-  wcsph_tvf::Options o = wcsph_tvf::options_from(prm);
-  o.rho0 = rho0;
-  o.U_ref = U;
-  o.c0 = wcsph_tvf::c0_factor(prm) * U;
-  o.mu = rho0 * U * L / Re;
-  o.dx = dx;
-  o.h = wcsph_tvf::h_over_dx(prm) * dx;
+  const wcsph_tvf::Options o = wcsph_tvf::options_for_flow(prm, rho0, U, L, Re, dx);
 
   Particles<2> p;
   p.reserve(static_cast<std::size_t>(n) * n);

@@ -47,11 +47,15 @@ Options options_from(const Params& prm) {
   return o;
 }
 
-double c0_factor(const Params& prm) {
-  return get_real(prm, "c0_factor");
-}
-double h_over_dx(const Params& prm) {
-  return get_real(prm, "h_over_dx");
+Options options_for_flow(const Params& prm, double rho0, double U, double L, double Re, double dx) {
+  Options o = options_from(prm);
+  o.rho0 = rho0;
+  o.U_ref = U;
+  o.c0 = get_real(prm, "c0_factor") * U;
+  o.mu = rho0 * U * L / Re;
+  o.dx = dx;
+  o.h = get_real(prm, "h_over_dx") * dx;
+  return o;
 }
 
 } // namespace wcsph_tvf

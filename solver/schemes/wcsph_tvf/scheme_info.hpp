@@ -7,10 +7,11 @@
 namespace sph {
 SchemeInfo make_wcsph_tvf_scheme();
 namespace wcsph_tvf {
-// Options from resolved parameters. The case sets the physical ones afterwards: rho0, c0 (as
-// c0_factor U_ref, see c0_factor()), mu, U_ref, dx and h = h_over_dx dx.
+// Options from resolved parameters, without the physical ones (rho0, c0, mu, U_ref, dx, h).
 Options options_from(const Params& prm);
-double c0_factor(const Params& prm);
-double h_over_dx(const Params& prm);
+// The options of a case with reference density rho0, speed U, length L, Reynolds number Re and
+// lattice spacing dx: options_from(prm) with rho0, U_ref = U, c0 = c0_factor U,
+// mu = rho0 U L / Re, dx and h = h_over_dx dx set.
+Options options_for_flow(const Params& prm, double rho0, double U, double L, double Re, double dx);
 } // namespace wcsph_tvf
 } // namespace sph
