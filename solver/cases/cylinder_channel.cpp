@@ -60,10 +60,10 @@
 // starts by dropping the ghosts and regenerating them, and the cell sort starts from the saved
 // order, as in the uninterrupted run.
 #include "cases/case.hpp"
+#include "cases/shedding.hpp"
 #include "core/cell_list.hpp"
 #include "core/kernels/quintic_spline.hpp"
 #include "core/neighbor_list.hpp"
-#include "diagnostics/signal.hpp"
 #include "io/hdf5.hpp"
 #include "io/particle_checkpoint.hpp"
 #include "schemes/alsph/alsph.hpp"
@@ -456,45 +456,17 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
 
   // --- metrics -----------------------------------------------------------------------------
   const double t_avg = std::min(t_settle, ts.empty() ? 0.0 : ts.back());
-  auto add_if = [&](const char* name, double v) {
-    if (std::isfinite(v))
-      res.add(name, v);
-  };
   // Flow metrics only for a run that reached t_end: averages over a blow-up mean nothing (a
   // diverged run records t_diverged, iteration counts and costs).
   if (status == RunStatus::Done) {
-    // Shedding frequency from the lift signal after the settling time; when it holds whole periods,
-    // the averages (eqs. 21, 23) are taken over exactly those periods, else over [t_settle, t_end].
-    const diag::Frequency fz = diag::zero_crossing_frequency(ts, cls, t_avg);
-    const diag::Frequency fs = diag::spectral_peak_frequency(ts, cls, t_avg);
-    double a0 = t_avg, a1 = 1e300;
-    if (fz.cycles >= 2)
-      a0 = fz.t_first, a1 = fz.t_last;
-    add_if("cd_mean", diag::time_mean(ts, cds, a0, a1));
-    add_if("cl_rms", diag::time_rms(ts, cls, a0, a1));
-    res.add("st_cycles", fz.cycles);
-    if (fz.cycles >= 1) {
-      res.add("St", fz.f * 1.0 / U);
-      // Spread of the individual periods relative to the mean period: small for periodic shedding.
-      res.add("st_period_cv", fz.period_std * fz.f);
-    }
-    if (fs.f > 0.0)
-      res.add("St_spectral", fs.f * 1.0 / U);
-    double cdmin = 1e300, cdmax = -1e300, clmin = 1e300, clmax = -1e300;
-    for (std::size_t k = 0; k < ts.size(); ++k)
-      if (ts[k] >= a0 && ts[k] <= a1)
-        cdmin = std::min(cdmin, cds[k]), cdmax = std::max(cdmax, cds[k]),
-        clmin = std::min(clmin, cls[k]), clmax = std::max(clmax, cls[k]);
-    if (cdmax >= cdmin) {
-      res.add("cd_amplitude", 0.5 * (cdmax - cdmin));
-      res.add("cl_amplitude", 0.5 * (clmax - clmin));
-    }
+    // Shedding frequency and force coefficients after the settling time (cases/shedding.hpp).
+    const AveragingWindow w = add_shedding_metrics(ts, cds, cls, t_avg, 1.0 / U, res);
     // Mean over the steps after the settling time of the mean |div u| over the fluid (section 3).
     if (settled_steps > 0) {
       res.add("div_mean", div_sum / settled_steps);
       res.add("div_max_mean", divmax_sum / settled_steps);
     }
-    res.add("t_average", a1 < 1e299 ? a1 - a0 : t - a0);
+    res.add("t_average", w.whole_periods ? w.t1 - w.t0 : t - w.t0);
   }
   res.add("iterations_mean", steps ? double(total_iterations) / steps : 0.0);
   res.add("converged_fraction", steps ? double(converged_steps) / steps : 0.0);
