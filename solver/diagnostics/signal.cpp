@@ -144,4 +144,27 @@ Frequency spectral_peak_frequency(const std::vector<double>& t, const std::vecto
   return out;
 }
 
+std::vector<double> gaussian_lowpass(const std::vector<double>& t, const std::vector<double>& f,
+                                     double sigma) {
+  if (!(sigma > 0.0))
+    return f;
+  const std::size_t n = std::min(t.size(), f.size());
+  std::vector<double> g(n);
+  std::size_t lo = 0, hi = 0; // window [lo, hi) of samples within 4 sigma of t[i]
+  for (std::size_t i = 0; i < n; ++i) {
+    while (t[lo] < t[i] - 4.0 * sigma)
+      ++lo;
+    while (hi < n && t[hi] <= t[i] + 4.0 * sigma)
+      ++hi;
+    double sw = 0.0, sf = 0.0;
+    for (std::size_t k = lo; k < hi; ++k) {
+      const double d = (t[k] - t[i]) / sigma;
+      const double w = std::exp(-0.5 * d * d);
+      sw += w, sf += w * f[k];
+    }
+    g[i] = sf / sw;
+  }
+  return g;
+}
+
 } // namespace sph::diag

@@ -3,6 +3,7 @@
 //   time_rms   [(1/T) int_{t0}^{t1} f^2 dt]^(1/2)  seed 004 eq. (23)
 //   dominant_frequency: the shedding frequency f of a periodic signal, from which St = f D / U
 //     (seed 004 section 4.1, Sr = f D / U).
+//   gaussian_lowpass: a smoothed copy of a noisy force signal (SPH particle noise) before the above
 // Samples may be non-uniform in time; integrals use the trapezoidal rule over [t0, t1].
 #pragma once
 
@@ -41,5 +42,12 @@ Frequency zero_crossing_frequency(const std::vector<double>& t, const std::vecto
 // number of periods in the window, floor(f T). O(n^2) DFT: meant for signals of <= ~1e5 samples.
 Frequency spectral_peak_frequency(const std::vector<double>& t, const std::vector<double>& f,
                                   double t_start = -1e300, std::size_t max_samples = 8192);
+
+// Gaussian low-pass: g_i = sum_k w_ik f_k / sum_k w_ik, w_ik = exp(-(t_k - t_i)^2 / (2 sigma^2))
+// over |t_k - t_i| <= 4 sigma (window truncated and renormalised at the ends). On uniform samples
+// much denser than sigma it multiplies a sine of frequency f by exp(-2 pi^2 sigma^2 f^2) and keeps
+// the mean. sigma <= 0 returns f unchanged.
+std::vector<double> gaussian_lowpass(const std::vector<double>& t, const std::vector<double>& f,
+                                     double sigma);
 
 } // namespace sph::diag

@@ -36,6 +36,30 @@ TEST(Signal, MeanAndRmsOfSine) {
   EXPECT_NEAR(diag::time_mean(t, f, 4.0), 1.5, 1e-6); // 3 whole periods
 }
 
+// The Gaussian low-pass keeps a constant, multiplies a sine by exp(-2 pi^2 sigma^2 f^2) away from
+// the ends, and removes a fast component: shedding-like lift plus particle noise.
+TEST(Signal, GaussianLowpassTransferFunction) {
+  const auto t = linspace_t(100.0, 10001); // dt = 0.01
+  const double sigma = 0.25, f0 = 0.165, f1 = 2.0;
+  std::vector<double> s(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k)
+    s[k] = 1.5 + std::sin(2.0 * std::numbers::pi * f0 * t[k]) +
+           0.5 * std::sin(2.0 * std::numbers::pi * f1 * t[k]);
+  const auto g = diag::gaussian_lowpass(t, s, sigma);
+  const double a0 = std::exp(-2.0 * std::pow(std::numbers::pi * sigma * f0, 2));
+  const double a1 = std::exp(-2.0 * std::pow(std::numbers::pi * sigma * f1, 2));
+  double worst = 0.0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k] < 1.0 || t[k] > 99.0)
+      continue;
+    const double expect = 1.5 + a0 * std::sin(2.0 * std::numbers::pi * f0 * t[k]) +
+                          0.5 * a1 * std::sin(2.0 * std::numbers::pi * f1 * t[k]);
+    worst = std::max(worst, std::abs(g[k] - expect));
+  }
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_EQ(diag::gaussian_lowpass(t, s, 0.0), s);
+}
+
 TEST(Signal, StrouhalOfSineFromZeroCrossingsAndSpectrum) {
   // A lift-like signal: 0.2 Hz sine with a transient and sample jitter-free steps of 0.01.
   const double f0 = 0.2134;
