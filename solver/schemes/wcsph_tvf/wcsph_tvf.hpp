@@ -16,6 +16,7 @@
 //                      the perfect lattice), V_i = m_i / rho_i                 (eq. 8) [notes 3]
 //   correction_matrix  (kernel_correction only) B_i = [sum_j V_j grad_i W_ij (x) (r_j - r_i)]^-1
 //   viscous_force      F^nu_i = V_i sum_j 2 mu (v_i - v_j) / (r_ij + 0.01 h) V_j dW_ij [notes 2d]
+//                      F_prior_i = F^nu_i + m_i g (g: a body acceleration, zero by default)
 //   transport          tvf = smoothing_length / limited (eqs. 14-16) [notes 5]:
 //                        g_i  = -sum_j (B_i + B_j) V_j dW_ij e_ij     (B = I without correction)
 //                        psi_i = min(kappa h^2 |g_i|^2, 1) (limited), 1 (smoothing_length)
@@ -190,12 +191,15 @@ struct ViscousForce {
   const Vec<D>* v_wall;
   double mu, eps_h;
   std::vector<Vec<D>>& f_prior;
+  bool walls_only = false; // the wall partners' share only (force_on_walls)
 
   struct Acc {
     Vec<D> f = Vec<D>::Zero();
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    if (walls_only && p.kind[q.j] != Kind::Wall)
+      return;
     const Vec<D> vj = partner_velocity(p, v_wall, i, q.j);
     a.f += (2.0 * mu * p.V[q.j] * q.dW / (q.r + eps_h)) * (p.v[i] - vj);
   }
@@ -258,6 +262,7 @@ struct FirstHalf {
   double inv_rho0c0;
   std::vector<Vec<D>>& force; // out: F^p (+ F^A)
   std::vector<double>& drho;  // out: drho/dt (assigned)
+  bool walls_only = false;    // the wall partners' share only (force_on_walls)
 
   struct Acc {
     Vec<D> f = Vec<D>::Zero();
@@ -266,6 +271,8 @@ struct FirstHalf {
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
     const std::uint32_t j = q.j;
+    if (walls_only && p.kind[j] != Kind::Wall)
+      return;
     const Vec<D> e = q.r_ij / q.r;
     const double Vj = p.V[j];
     double pj = p.p[j];
@@ -304,6 +311,7 @@ struct SecondHalf {
   double rho0c0;
   std::vector<double>& drho;   // in: 1st-half dissipation; out: += continuity
   std::vector<Vec<D>>& f_diss; // out: dissipation force (assigned)
+  bool walls_only = false;     // the wall partners' share only (force_on_walls)
 
   struct Acc {
     double d = 0.0;
@@ -311,6 +319,8 @@ struct SecondHalf {
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    if (walls_only && p.kind[q.j] != Kind::Wall)
+      return;
     const Vec<D> e = q.r_ij / q.r;
     const Vec<D> vj = partner_velocity(p, v_wall, i, q.j);
     const double u = (p.v[i] - vj).dot(e);
@@ -446,6 +456,50 @@ public:
     return p_.kind[i] == Kind::Fluid;
   }
 
+  // A uniform body acceleration g acting on the fluid from the next step on (added to F_prior as
+  // m_i g; e.g. the smooth start of a periodic free stream).
+  void set_body_acceleration(const Vec<D>& g) {
+    g_body_ = g;
+  }
+
+  // Force of the fluid on the wall particles (a body at rest): minus the walls' share of the
+  // viscous, pressure (1st half, wall pressure extrapolated) and Riemann-dissipation (2nd half)
+  // forces on the fluid particles, on the current state and neighbour list (call between advection
+  // steps). Newton's third law: the same pair forces the fluid feels, summed over fluid i.
+  // viscous (optional): the viscous part alone (the rest is pressure and Riemann dissipation).
+  Vec<D> force_on_walls(Vec<D>* viscous = nullptr) {
+    const std::size_t N = p_.size();
+    wf_visc_.resize(N), wf_p_.resize(N), wf_diss_.resize(N), wf_drho_.assign(N, 0.0);
+    // F_prior of the wall pressure extrapolation on the current positions (the step's own F_prior
+    // and B are indexed in the order before the step's final cell sort).
+    wf_prior_.resize(N);
+    ops::ViscousForce<D> all{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, wf_prior_};
+    interact(nl_, all, fluid_only());
+    for (std::size_t i = 0; i < N; ++i)
+      wf_prior_[i] += p_.m[i] * g_body_;
+    const std::vector<Mat<D>>* B = nullptr; // likewise the correction matrices, if used
+    if (o_.kernel_correction) {
+      wf_B_.resize(N, Mat<D>::Identity()), wf_trB_.resize(N);
+      CorrectionMatrix<D> cm{p_.V, wf_B_, wf_trB_};
+      interact(nl_, cm, fluid_only());
+      B = &wf_B_;
+    }
+    ops::ViscousForce<D> fv{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, wf_visc_, true};
+    interact(nl_, fv, fluid_only());
+    ops::FirstHalf<D> fp{p_,    B,        wf_prior_, nullptr, 0.0, 1.0 / (o_.rho0 * o_.c0),
+                         wf_p_, wf_drho_, true};
+    interact(nl_, fp, fluid_only());
+    ops::SecondHalf<D> fd{p_, v_wall(), o_, o_.rho0 * o_.c0, wf_drho_, wf_diss_, true};
+    interact(nl_, fd, fluid_only());
+    Vec<D> F = Vec<D>::Zero(), Fv = Vec<D>::Zero();
+    for (std::size_t i = 0; i < N; ++i)
+      if (fluid(i))
+        F -= wf_p_[i] + wf_diss_[i], Fv -= wf_visc_[i];
+    if (viscous)
+      *viscous = Fv;
+    return F + Fv;
+  }
+
 private:
   Particles<D>& p_;
   Fields f_;
@@ -461,6 +515,10 @@ private:
   long acoustic_steps_ = 0;
   double a_last_max_ = 0.0; // max_i |F_prior_i + F^diss_i| / m_i at the end of the last step
   double dt_tv_ = 1.0;      // step over which the transport velocity is measured
+  Vec<D> g_body_ = Vec<D>::Zero();
+  std::vector<Vec<D>> wf_prior_, wf_visc_, wf_p_, wf_diss_; // force_on_walls' scratch
+  std::vector<double> wf_drho_, wf_trB_;
+  std::vector<Mat<D>> wf_B_;
 
   const Vec<D>* v_wall() const {
     return f_.v_wall >= 0 ? p_.vector(f_.v_wall).data() : nullptr;
@@ -515,6 +573,10 @@ private:
   void viscous_force() {
     ops::ViscousForce<D> op{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, f_prior_};
     interact(nl_, op, fluid_only());
+    if (g_body_.squaredNorm() > 0.0)
+      for (std::size_t i = 0; i < p_.size(); ++i)
+        if (fluid(i))
+          f_prior_[i] += p_.m[i] * g_body_;
   }
 
   // Eqs. (14)-(16) once per advection step, or Adami's a~ for the sub-steps.
