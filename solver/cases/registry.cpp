@@ -13,12 +13,13 @@ CaseInfo make_cylinder_channel_case();
 CaseInfo make_checkpoint_demo_case();
 CaseInfo make_taylor_green_case();
 CaseInfo make_cylinder_array_case();
+CaseInfo make_cylinder_free_stream_case();
 
 const std::vector<CaseInfo>& case_registry() {
   static const std::vector<CaseInfo> cases{
       make_patch_test_case(),      make_shear_layer_case(),      make_lid_driven_cavity_case(),
       make_cavity_cylinder_case(), make_cylinder_channel_case(), make_checkpoint_demo_case(),
-      make_taylor_green_case(),    make_cylinder_array_case(),
+      make_taylor_green_case(),    make_cylinder_array_case(),   make_cylinder_free_stream_case(),
   };
   return cases;
 }

@@ -285,3 +285,15 @@ steps = 600
     EXPECT_TRUE(same_bits(resumed[name], value))
         << name << ": resumed " << resumed[name] << " vs uninterrupted " << value;
 }
+
+// The wcsph_tvf cylinder: the force series, the partial sample bin and the symmetry nudge's flag.
+TEST(Checkpoint, CylinderFreeStreamResumesToTheSameBits) {
+  Params p = case_defaults("cylinder_free_stream");
+  p["D_over_dx"] = 5.0;
+  p["t_end"] = 3.0;
+  p["ramp_time"] = 1.0;
+  p["sample_interval"] = 0.1;
+  std::string msg = expect_resume_is_exact("cylinder_free_stream", p, 0.5, 13,
+                                           {"wall_s", "time_per_particle_step_s"});
+  EXPECT_CONTAINS(msg, "resumed at t = ");
+}
