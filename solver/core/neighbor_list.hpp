@@ -70,6 +70,47 @@ public:
     }
   }
 
+  // Variable smoothing length (h[i] per particle): the pair's kernel has h_ij = (h_i + h_j) / 2,
+  // evaluated by scaling `kernel` (smoothing length h0 = kernel.h): W(r, h) = (h0/h)^D W(r h0/h)
+  // and dW(r, h) = (h0/h)^(D+1) dW(r h0/h), exact for kernels of the form h^-D f(r/h). Pairs
+  // beyond their own support are left out; the cell list must be built for the largest support.
+  template <class Kernel>
+  void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const Kernel& kernel,
+             const std::vector<double>& h) {
+    const std::size_t N = x.size();
+    const double h0 = kernel.h, s0 = kernel.support() / h0;
+    offset.resize(N + 1);
+    count_.resize(N);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < N; ++i) {
+      std::uint32_t n = 0;
+      cells.for_each_neighbor(i, x, [&](std::uint32_t jj, const Vec<D>&, double r2) {
+        const double s = s0 * 0.5 * (h[i] + h[jj]);
+        n += r2 < s * s;
+      });
+      count_[i] = n;
+    }
+    offset[0] = 0;
+    for (std::size_t i = 0; i < N; ++i)
+      offset[i + 1] = offset[i] + count_[i];
+    const std::size_t P = offset[N];
+    j.resize(P), r_ij.resize(P), r.resize(P), W.resize(P), dW.resize(P);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < N; ++i) {
+      std::uint32_t k = offset[i];
+      cells.for_each_neighbor(i, x, [&](std::uint32_t jj, const Vec<D>& rij, double r2) {
+        const double hij = 0.5 * (h[i] + h[jj]), s = s0 * hij;
+        if (!(r2 < s * s))
+          return;
+        const double rr = std::sqrt(r2), a = h0 / hij;
+        const double aD = D == 2 ? a * a : a * a * a;
+        j[k] = jj, r_ij[k] = rij, r[k] = rr;
+        W[k] = aD * kernel.W(rr * a), dW[k] = aD * a * kernel.dW(rr * a);
+        ++k;
+      });
+    }
+  }
+
   Pair<D> pair(std::size_t k) const {
     return {j[k], r_ij[k], r[k], W[k], dW[k]};
   }

@@ -48,6 +48,12 @@
 //   Dt_ad = cfl_ad h / max(sqrt(max_i max(|v_i|^2, 4 h |F^diss_i + F_prior_i| / m_i)), U_ref, nu/h)
 //   Dt_ac = cfl_ac h / max_i (c0 + |v_i|),  cfl_ad = 0.25, cfl_ac = 0.6.
 //
+// Variable resolution (seed 002 section 4.4; Fields::h, a per-particle smoothing length): the
+// pairs' kernel has h_ij = (h_i + h_j) / 2 (core/neighbor_list.hpp), the density is the mass
+// summation ops::MassSummation, the TVF shift of eqs. (14)-(16) uses h_i (the point of the seed's
+// h^2 scaling: Adami's background pressure has no length scale to adapt), and both time steps use
+// the smallest h. Particles keep their h (no splitting or merging).
+//
 // Walls (Kind::Wall particles with a prescribed velocity field, e.g. the cavity) [notes 2c]:
 // counted in the density summation; in the 1st half with p_w = p_i + rho_i |r_iw|
 // max(0, (F_prior_i / m_i) . (-e_iw)); in the continuity, dissipation and viscous force with
@@ -103,6 +109,7 @@ struct Fields {
   int drho = -1;   // d rho / dt of the last half step (used by the next 1st half)
   int f_diss = -1; // Riemann dissipation force of the last 2nd half
   int v_wall = -1; // prescribed velocity of wall particles (may be -1: no walls)
+  int h = -1;      // per-particle smoothing length (variable resolution; -1: h = Options::h)
   template <int D>
   static Fields add_to(Particles<D>& p, int v_wall = -1) {
     Fields f;
@@ -172,6 +179,30 @@ struct DensitySummation {
     sumW[i] = a.w;
     p.rho[i] = rho0 * a.w / sigma0;
     p.V[i] = p.m[i] / p.rho[i];
+  }
+};
+
+// Variable resolution (seed 002 section 4.4): rho_i = sum_j m_j W(r_ij, h_ij) / (dx^D sigma0), self
+// term m_i W(0, h_i) included, h_ij = (h_i + h_j) / 2; dx^D sigma0 (the lattice's sum_j V_j W_ij,
+// the same for every spacing at fixed h/dx) makes it rho0 on any uniform lattice, and equal to
+// DensitySummation there.
+template <int D>
+struct MassSummation {
+  Particles<D>& p;
+  const std::vector<double>& h;
+  double W0h0, h0, rho0, lattice_sum; // W(0) at h0; dx^D sigma0
+  double sigma0;
+  std::vector<double>& sumW;
+
+  struct Acc {
+    double w;
+  };
+  Acc init(std::size_t i) const { return {p.m[i] * W0h0 * std::pow(h0 / h[i], D)}; }
+  void pair(std::size_t, const Pair<D>& q, Acc& a) const { a.w += p.m[q.j] * q.W; }
+  void finish(std::size_t i, const Acc& a) {
+    p.rho[i] = a.w / lattice_sum;
+    p.V[i] = p.m[i] / p.rho[i];
+    sumW[i] = sigma0 * p.rho[i] / rho0; // the equivalent number density
   }
 };
 
@@ -399,19 +430,29 @@ public:
   // summation happens in the first step.
   void init() {
     sigma0_ = lattice_number_density<D>(kernel_, o_.dx);
-    cells_ = std::make_unique<CellList<D>>(box_, kernel_.support());
+    double h_max = o_.h;
+    h_min_ = o_.h;
+    if (variable()) {
+      const auto& h = p_.scalar(f_.h);
+      h_min_ = h_max = h.at(0);
+      for (std::size_t i = 0; i < p_.size(); ++i)
+        h_min_ = std::min(h_min_, h[i]), h_max = std::max(h_max, h[i]);
+    }
+    cells_ = std::make_unique<CellList<D>>(box_, variable() ? kernel_.support() * h_max / o_.h
+                                                            : kernel_.support());
     neighbours();
   }
 
   // Advection time step, eqs. (9)-(10), from the current velocities and the forces of the last
-  // step (F_prior + F^diss).
+  // step (F_prior + F^diss); with variable resolution on the smallest h.
   double advection_dt() const {
-    double s2 = 4.0 * o_.h * a_last_max_;
+    const double h = h_min_;
+    double s2 = 4.0 * h * a_last_max_;
     for (std::size_t i = 0; i < p_.size(); ++i)
       if (fluid(i))
         s2 = std::max(s2, p_.v[i].squaredNorm());
     const double nu = o_.mu / o_.rho0;
-    return o_.cfl_ad * o_.h / std::max({std::sqrt(s2), o_.U_ref, nu / o_.h});
+    return o_.cfl_ad * h / std::max({std::sqrt(s2), o_.U_ref, nu / h});
   }
 
   // Acoustic time step, eq. (11).
@@ -422,7 +463,7 @@ public:
     for (std::size_t i = 0; i < N; ++i)
       if (fluid(i))
         v2 = std::max(v2, p_.v[i].squaredNorm());
-    return o_.cfl_ac * o_.h / (o_.c0 + std::sqrt(v2));
+    return o_.cfl_ac * h_min_ / (o_.c0 + std::sqrt(v2));
   }
 
   // One advection step of size Dt through the stage list. Dt_nominal (default Dt) is the step of
@@ -454,6 +495,10 @@ public:
 
   bool fluid(std::size_t i) const {
     return p_.kind[i] == Kind::Fluid;
+  }
+  // Variable resolution: a per-particle smoothing length field (Fields::h).
+  bool variable() const {
+    return f_.h >= 0;
   }
 
   // A uniform body acceleration g acting on the fluid from the next step on (added to F_prior as
@@ -514,6 +559,7 @@ private:
   std::vector<Vec<D>> f_prior_, force_, g_, shift_, a_tilde_;
   long acoustic_steps_ = 0;
   double a_last_max_ = 0.0; // max_i |F_prior_i + F^diss_i| / m_i at the end of the last step
+  double h_min_ = 1.0;      // smallest smoothing length (time steps)
   double dt_tv_ = 1.0;      // step over which the transport velocity is measured
   Vec<D> g_body_ = Vec<D>::Zero();
   std::vector<Vec<D>> wf_prior_, wf_visc_, wf_p_, wf_diss_; // force_on_walls' scratch
@@ -547,7 +593,10 @@ private:
 
   void neighbours() {
     cells_->build(p_);
-    nl_.build(*cells_, p_.r, kernel_);
+    if (variable())
+      nl_.build(*cells_, p_.r, kernel_, p_.scalar(f_.h));
+    else
+      nl_.build(*cells_, p_.r, kernel_);
     const std::size_t N = p_.size();
     sumW_.resize(N), traceB_.resize(N), B_.resize(N, Mat<D>::Identity());
     f_prior_.resize(N, Vec<D>::Zero()), force_.resize(N), g_.resize(N);
@@ -555,8 +604,20 @@ private:
   }
 
   void density_summation() {
-    ops::DensitySummation<D> op{p_, kernel_.W(0.0), o_.rho0, sigma0_, sumW_};
-    interact(nl_, op, fluid_only());
+    if (variable()) {
+      ops::MassSummation<D> op{p_,
+                               p_.scalar(f_.h),
+                               kernel_.W(0.0),
+                               o_.h,
+                               o_.rho0,
+                               std::pow(o_.dx, D) * sigma0_,
+                               sigma0_,
+                               sumW_};
+      interact(nl_, op, fluid_only());
+    } else {
+      ops::DensitySummation<D> op{p_, kernel_.W(0.0), o_.rho0, sigma0_, sumW_};
+      interact(nl_, op, fluid_only());
+    }
     const std::size_t N = p_.size();
     for (std::size_t i = 0; i < N; ++i)
       if (!fluid(i))
@@ -594,14 +655,15 @@ private:
     }
     ops::TvfResidue<D> op{p_, B(), g_};
     interact(nl_, op, fluid_only());
-    const double c = o_.tvf_alpha * o_.h * o_.h;
+    const double* hv = variable() ? p_.scalar(f_.h).data() : nullptr; // eq. (14) with h_i
     double tv = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : tv)
     for (std::size_t i = 0; i < N; ++i) {
       if (!fluid(i))
         continue;
+      const double h = hv ? hv[i] : o_.h, c = o_.tvf_alpha * h * h;
       const double psi =
-          o_.tvf == Tvf::Limited ? tvf_limiter(o_.tvf_kappa, o_.h, g_[i].squaredNorm()) : 1.0;
+          o_.tvf == Tvf::Limited ? tvf_limiter(o_.tvf_kappa, h, g_[i].squaredNorm()) : 1.0;
       shift_[i] = (c * psi) * g_[i];
       p_.r[i] += shift_[i];
       tv = std::max(tv, shift_[i].norm());
