@@ -20,6 +20,13 @@
 // the top and bottom. A periodic box cannot: the flow displaced by the cylinder stays within H,
 // as between slip walls, so the default height is 16 D (at D/dx = 10: C_D 1.84 with H = 8 D,
 // 1.68 with 16 D; docs/tvf.md).
+// Variable resolution (seed 002 section 4.4; refinement_band b > 0): the band |y - H/2| < b along
+// the whole box (SPHinXsys' refinement region is such a band) holds particles of spacing
+// dx = D / D_over_dx, the rest spacing 2 dx (one refinement level, as SPHinXsys); each particle
+// keeps its mass rho0 dx_i^2 and smoothing length h_i = h_over_dx dx_i (schemes/wcsph_tvf:
+// pair kernels with (h_i + h_j)/2, mass summation, TVF shift alpha h_i^2). No splitting or
+// merging: particles that leave the band keep their size; in the periodic box the band re-enters
+// at x = 0 as it left.
 // Start: with ramp_time T > 0 the fluid starts at rest and U_inf(t) = U (1 - cos(pi t / T)) / 2
 // for t < T (SPHinXsys: T = 2 with D = 2), the whole box driven by the uniform body acceleration
 // dU_inf/dt; T = 0 starts impulsively (u = U everywhere). At t = T a transverse velocity nudge
@@ -71,15 +78,26 @@ RunResult run(const Params& prm, const RunContext& ctx) {
   const double Ly = get_real(prm, "lateral_sponge_length");
   const double speed_bound = get_real(prm, "speed_bound");
   const double sample_interval = get_real(prm, "sample_interval");
-  const int nx = static_cast<int>(std::lround(get_real(prm, "domain_length") / dx));
-  const int ny = static_cast<int>(std::lround(get_real(prm, "domain_height") / dx));
-  const double L = nx * dx, H = ny * dx, D = 1.0, R = 0.5 * D, U = 1.0, rho0 = 1.0;
+  // Variable resolution: spacing dx within the band |y - H/2| < b, 2 dx outside (b > 0).
+  const double band = get_real(prm, "refinement_band");
+  const double dxc = band > 0.0 ? 2.0 * dx : dx; // the coarse lattice
+  const int nx = static_cast<int>(std::lround(get_real(prm, "domain_length") / dxc));
+  const int ny = band > 0.0
+                     ? 2 * static_cast<int>(std::lround(get_real(prm, "domain_height") / (2 * dxc)))
+                     : static_cast<int>(std::lround(get_real(prm, "domain_height") / dxc));
+  const int nband = static_cast<int>(std::lround(band / dxc)); // band half-width in coarse rows
+  const double L = nx * dxc, H = ny * dxc, D = 1.0, R = 0.5 * D, U = 1.0, rho0 = 1.0;
   const V2 c(get_real(prm, "upstream_length"), 0.5 * H);
   const double x_sponge = L - Ls;
 
   const wcsph_tvf::Options o = wcsph_tvf::options_for_flow(prm, rho0, U, D, Re, dx);
   const K kernel(o.h);
   const double support = kernel.support();
+  if (band > 0.0 && (nband * dxc < R + support || nband * dxc > 0.5 * H - Ly))
+    throw std::invalid_argument(
+        "cylinder_free_stream: refinement_band must hold the cylinder and a kernel support and "
+        "stay outside the lateral sponge zones (0.5 + 2.6 / D_over_dx <= refinement_band <= "
+        "domain_height / 2 - lateral_sponge_length)");
   if (c[0] - R < 2.0 * support || c[0] + R + D > x_sponge || R + D > 0.5 * H - Ly)
     throw std::invalid_argument(
         "cylinder_free_stream: the cylinder must lie two kernel supports inside the box, one D "
@@ -104,12 +122,25 @@ RunResult run(const Params& prm, const RunContext& ctx) {
       p.add(c + rk * V2(-std::cos(th), std::sin(th)), m, rho0, Kind::Wall);
     }
   }
-  for_each_lattice_point<2>({0, 0}, {nx, ny}, dx, [&](const V2& x, const std::array<int, 2>&) {
-    if ((x - c).norm() >= R)
-      p.v[p.add(x, m, rho0)] = V2(u_inf(0.0), 0.0);
+  const std::size_t n_wall = p.size();
+  for_each_lattice_point<2>({0, 0}, {nx, ny}, dxc, [&](const V2& x, const std::array<int, 2>& ij) {
+    auto add = [&](const V2& y, double d) {
+      if ((y - c).norm() >= R)
+        p.v[p.add(y, rho0 * d * d, rho0)] = V2(u_inf(0.0), 0.0);
+    };
+    if (band > 0.0 && std::abs(ij[1] + 0.5 - 0.5 * ny) < nband) // a coarse cell of the band
+      for (int a = 0; a < 4; ++a)
+        add(x + 0.25 * dxc * V2(a % 2 ? 1.0 : -1.0, a / 2 ? 1.0 : -1.0), dx);
+    else
+      add(x, dxc);
   });
   const int vw = p.add_vector("v_wall"); // zero: the cylinder is at rest
-  const wcsph_tvf::Fields f = wcsph_tvf::Fields::add_to(p, vw);
+  wcsph_tvf::Fields f = wcsph_tvf::Fields::add_to(p, vw);
+  if (band > 0.0) {
+    f.h = p.add_scalar("h");
+    for (std::size_t i = 0; i < p.size(); ++i) // h = h_over_dx times the particle's spacing
+      p.scalar(f.h)[i] = i < n_wall ? o.h : o.h * std::sqrt(p.m[i] / m);
+  }
   Domain<2> box;
   box.lo = V2::Zero(), box.hi = V2(L, H);
   box.periodic = {true, true};
@@ -307,6 +338,10 @@ CaseInfo make_cylinder_free_stream_case() {
       {"perturbation", ParamType::Real, 0.05,
        "transverse velocity nudge behind the cylinder at t = ramp_time, in U (breaks the symmetry)",
        0.0, 1.0},
+      {"refinement_band", ParamType::Real, 0.0,
+       "variable resolution: half-width b in D of the band |y - H/2| < b at D_over_dx, the rest "
+       "at half that resolution (0: uniform)",
+       0.0, 1000.0},
       {"force_filter_sigma", ParamType::Real, 0.25,
        "Gaussian low-pass of the force series before the shedding metrics, standard deviation in "
        "D/U (0: none; 0.25 keeps 97 % of a St = 0.165 lift, 29 % at 1 U/D, 0.7 % at 2 U/D)",
