@@ -293,7 +293,10 @@ TEST(Checkpoint, CylinderFreeStreamResumesToTheSameBits) {
   p["t_end"] = 3.0;
   p["ramp_time"] = 1.0;
   p["sample_interval"] = 0.1;
-  std::string msg = expect_resume_is_exact("cylinder_free_stream", p, 0.5, 13,
-                                           {"wall_s", "time_per_particle_step_s"});
-  EXPECT_CONTAINS(msg, "resumed at t = ");
+  for (double band : {0.0, 2.0}) { // uniform, and variable resolution (the h field)
+    p["refinement_band"] = band;
+    std::string msg = expect_resume_is_exact("cylinder_free_stream", p, 0.5, 13,
+                                             {"wall_s", "time_per_particle_step_s"});
+    EXPECT_CONTAINS(msg, "resumed at t = ");
+  }
 }
