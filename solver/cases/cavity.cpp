@@ -31,6 +31,7 @@
 #include "diagnostics/cavity_profiles.hpp"
 #include "io/hdf5.hpp"
 #include "io/particle_checkpoint.hpp"
+#include "io/particle_fields.hpp"
 #include "schemes/isph/isph.hpp"
 
 #include <chrono>
@@ -294,16 +295,7 @@ void write_cavity_h5(const std::filesystem::path& output_dir, bool cylinder,
   w.write_columns("history", history_names, history);
   w.write_columns("profile_x0.5", {"y", "ux"}, {prof.y_line, prof.ux_line});
   w.write_columns("profile_y0.5", {"x", "uy"}, {prof.x_line, prof.uy_line});
-  std::vector<double> fx, fy, fu, fv, fp;
-  double p_mean = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    if (p.kind[i] == Kind::Fluid)
-      fx.push_back(p.r[i].x()), fy.push_back(p.r[i].y()), fu.push_back(p.v[i].x()),
-          fv.push_back(p.v[i].y()), fp.push_back(p.p[i]), p_mean += p.p[i];
-  p_mean /= static_cast<double>(std::max<std::size_t>(fp.size(), 1));
-  for (auto& x : fp)
-    x -= p_mean;
-  w.write_columns("fields", {"x", "y", "ux", "uy", "p"}, {fx, fy, fu, fv, fp});
+  io::write_fluid_fields(w, p, true);
   w.close();
 }
 

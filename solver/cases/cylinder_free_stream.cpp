@@ -52,6 +52,7 @@
 #include "diagnostics/signal.hpp"
 #include "io/hdf5.hpp"
 #include "io/particle_checkpoint.hpp"
+#include "io/particle_fields.hpp"
 #include "schemes/wcsph_tvf/scheme_info.hpp"
 
 #include <chrono>
@@ -293,12 +294,7 @@ RunResult run(const Params& prm, const RunContext& ctx) {
     h5.attribute("force_filter_sigma", sigma_f);
     h5.write_columns("series", {"t", "cd", "cl", "cd_viscous", "cd_filtered", "cl_filtered"},
                      {ts, cds, cls, cdvs, cd_f, cl_f});
-    std::vector<double> fx, fy, fu, fv, fp;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.kind[i] == Kind::Fluid)
-        fx.push_back(p.r[i].x()), fy.push_back(p.r[i].y()), fu.push_back(p.v[i].x()),
-            fv.push_back(p.v[i].y()), fp.push_back(p.p[i]);
-    h5.write_columns("fields", {"x", "y", "ux", "uy", "p"}, {fx, fy, fu, fv, fp});
+    io::write_fluid_fields(h5, p);
     h5.close();
   }
   ck.discard(); // the results are final

@@ -38,6 +38,7 @@
 #include "diagnostics/profiles.hpp"
 #include "io/hdf5.hpp"
 #include "io/particle_checkpoint.hpp"
+#include "io/particle_fields.hpp"
 #include "schemes/wcsph_tvf/scheme_info.hpp"
 
 #include <chrono>
@@ -226,11 +227,7 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
         "series",
         {"t", "ke", "ke_exact", "umax", "umax_exact", "tv_max", "tv_ratio", "sumW_spread"},
         {s_t, s_ke, s_ke_ex, s_um, s_um_ex, s_tv, s_ratio, s_spread});
-    std::vector<double> fx, fy, fu, fv, fp;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      fx.push_back(p.r[i].x()), fy.push_back(p.r[i].y()), fu.push_back(p.v[i].x()),
-          fv.push_back(p.v[i].y()), fp.push_back(p.p[i]);
-    w.write_columns("fields", {"x", "y", "ux", "uy", "p"}, {fx, fy, fu, fv, fp});
+    io::write_fluid_fields(w, p); // every particle is fluid
     w.close();
   }
   ck.discard(); // the results are final

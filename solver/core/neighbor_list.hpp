@@ -44,30 +44,11 @@ public:
   // first steps it does not allocate.
   template <class Kernel>
   void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const Kernel& kernel) {
-    const std::size_t N = x.size();
-    offset.resize(N + 1);
-    // Pass 1 counts, pass 2 fills (each in parallel over particles).
-    count_.resize(N);
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::size_t i = 0; i < N; ++i) {
-      std::uint32_t n = 0;
-      cells.for_each_neighbor(i, x, [&](std::uint32_t, const Vec<D>&, double) { ++n; });
-      count_[i] = n;
-    }
-    offset[0] = 0;
-    for (std::size_t i = 0; i < N; ++i)
-      offset[i + 1] = offset[i] + count_[i];
-    const std::size_t P = offset[N];
-    j.resize(P), r_ij.resize(P), r.resize(P), W.resize(P), dW.resize(P);
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::size_t i = 0; i < N; ++i) {
-      std::uint32_t k = offset[i];
-      cells.for_each_neighbor(i, x, [&](std::uint32_t jj, const Vec<D>& rij, double r2) {
-        const double rr = std::sqrt(r2);
-        j[k] = jj, r_ij[k] = rij, r[k] = rr, W[k] = kernel.W(rr), dW[k] = kernel.dW(rr);
-        ++k;
-      });
-    }
+    build_pairs(
+        cells, x, [](std::size_t, std::uint32_t, double) { return true; },
+        [&](std::size_t, std::uint32_t, double rr, double& w, double& dw) {
+          w = kernel.W(rr), dw = kernel.dW(rr);
+        });
   }
 
   // Variable smoothing length (h[i] per particle): the pair's kernel has h_ij = (h_i + h_j) / 2,
@@ -77,17 +58,37 @@ public:
   template <class Kernel>
   void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const Kernel& kernel,
              const std::vector<double>& h) {
-    const std::size_t N = x.size();
     const double h0 = kernel.h, s0 = kernel.support() / h0;
+    build_pairs(
+        cells, x,
+        [&](std::size_t i, std::uint32_t jj, double r2) {
+          const double s = s0 * 0.5 * (h[i] + h[jj]);
+          return r2 < s * s;
+        },
+        [&](std::size_t i, std::uint32_t jj, double rr, double& w, double& dw) {
+          const double a = h0 / (0.5 * (h[i] + h[jj])), aD = D == 2 ? a * a : a * a * a;
+          w = aD * kernel.W(rr * a), dw = aD * a * kernel.dW(rr * a);
+        });
+  }
+
+  Pair<D> pair(std::size_t k) const { return {j[k], r_ij[k], r[k], W[k], dW[k]}; }
+
+private:
+  std::vector<std::uint32_t> count_;
+
+  // The candidates of the cell list that accept(i, j, r2) keeps, with eval(i, j, r, W, dW):
+  // pass 1 counts, pass 2 fills (each in parallel over particles).
+  template <class Accept, class Eval>
+  void build_pairs(const CellList<D>& cells, const std::vector<Vec<D>>& x, Accept&& accept,
+                   Eval&& eval) {
+    const std::size_t N = x.size();
     offset.resize(N + 1);
     count_.resize(N);
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::size_t i = 0; i < N; ++i) {
       std::uint32_t n = 0;
-      cells.for_each_neighbor(i, x, [&](std::uint32_t jj, const Vec<D>&, double r2) {
-        const double s = s0 * 0.5 * (h[i] + h[jj]);
-        n += r2 < s * s;
-      });
+      cells.for_each_neighbor(
+          i, x, [&](std::uint32_t jj, const Vec<D>&, double r2) { n += accept(i, jj, r2); });
       count_[i] = n;
     }
     offset[0] = 0;
@@ -99,24 +100,15 @@ public:
     for (std::size_t i = 0; i < N; ++i) {
       std::uint32_t k = offset[i];
       cells.for_each_neighbor(i, x, [&](std::uint32_t jj, const Vec<D>& rij, double r2) {
-        const double hij = 0.5 * (h[i] + h[jj]), s = s0 * hij;
-        if (!(r2 < s * s))
+        if (!accept(i, jj, r2))
           return;
-        const double rr = std::sqrt(r2), a = h0 / hij;
-        const double aD = D == 2 ? a * a : a * a * a;
+        const double rr = std::sqrt(r2);
         j[k] = jj, r_ij[k] = rij, r[k] = rr;
-        W[k] = aD * kernel.W(rr * a), dW[k] = aD * a * kernel.dW(rr * a);
+        eval(i, jj, rr, W[k], dW[k]);
         ++k;
       });
     }
   }
-
-  Pair<D> pair(std::size_t k) const {
-    return {j[k], r_ij[k], r[k], W[k], dW[k]};
-  }
-
-private:
-  std::vector<std::uint32_t> count_;
 };
 
 } // namespace sph
