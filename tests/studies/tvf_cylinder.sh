@@ -3,11 +3,11 @@
 # studies/tvf_cylinder.toml (D/dx = 5, 8 D/U, uniform and with the refinement band; seconds) runs
 # into a fresh database and records the force metrics the issue names; the drag is positive with
 # its viscous part a fraction of it; the refined box holds fewer particles;
-# the full study expands to its 8 jobs; the report renders. Usage: tvf_cylinder.sh RUNNER SRC
+# the full study expands to its 11 jobs; the report renders. Usage: tvf_cylinder.sh RUNNER SRC
 RUNNER="$1" SRC="$2"
 source "$(dirname "$0")/lib.sh"
 
-expect_jobs tvf_cylinder "" 8
+expect_jobs tvf_cylinder "" 11
 run_quick tvf_cylinder
 [ "$(q "SELECT count(*) FROM jobs WHERE state = 'done'")" = 2 ] || fail "expected 2 done jobs"
 for m in cd_mean cl_rms cd_viscous_mean cd_amplitude cl_amplitude tv_ratio_max; do
