@@ -169,8 +169,7 @@ RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinde
     solver.restore_carried_state(carried);
     ke_prev = loop.at(0), ke_sum = loop.at(1), cpu_before = loop.at(2), wall_before = loop.at(3);
     n = static_cast<long>(at->first), t = at->second;
-    resumed =
-        "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
+    resumed = io::resumed_message(t, ctx.attempt);
   }
   const std::clock_t cpu0 = std::clock();
   auto cpu_so_far = [&] {

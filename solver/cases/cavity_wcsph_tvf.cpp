@@ -23,9 +23,7 @@
 // Checkpoints: every particle field, the scheme's carried state, this loop's state and history
 // (as the ISPH run; resumes bit for bit, tests/runner/test_checkpoint.cpp).
 #include "cases/cavity.hpp"
-#include "core/cell_list.hpp"
 #include "core/kernels/kernel.hpp"
-#include "core/neighbor_list.hpp"
 #include "io/particle_checkpoint.hpp"
 #include "operators/wall_velocity.hpp"
 #include "schemes/wcsph_tvf/scheme_info.hpp"
@@ -97,14 +95,11 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   if (auto at = ck.restore()) {
     scheme.init();
     scheme.restore_carried_state(carried);
-    if (a.size() != 7)
-      throw std::runtime_error("cavity (wcsph_tvf): checkpoint loop state has " +
-                               std::to_string(a.size()) + " values, expected 7");
+    io::expect_state_size(a, 7, "cavity (wcsph_tvf): checkpoint loop state");
     next_out = a[0], win_sum = a[1], win_span = a[2], ke_prev = a[3], drho_max = a[4];
     cpu_before = a[5], wall_before = a[6];
     steps = static_cast<long>(at->first), t = at->second;
-    resumed =
-        "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
+    resumed = io::resumed_message(t, ctx.attempt);
   }
   const std::clock_t cpu0 = std::clock();
   auto cpu_so_far = [&] {
@@ -156,15 +151,10 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
   const double cpu_loop = cpu_so_far(), wall_loop = wall_so_far();
   const long acoustic = scheme.acoustic_steps();
 
-  // Profiles: fluid velocities, and the no-slip mirror velocity on the walls.
-  {
-    CellList<2> cells(box, kernel.support());
-    NeighborList<2> nl;
-    cells.build(p);
-    nl.build(cells, p.r, kernel);
-    WallVelocity<2> wv{p.kind, p.vector(vw), p.v};
-    interact(nl, wv, [&](std::size_t i) { return p.kind[i] == Kind::Wall; });
-  }
+  // Profiles: fluid velocities, and the no-slip mirror velocity on the walls (on the scheme's
+  // neighbour list, built on the final positions at the end of the last step).
+  WallVelocity<2> wv{p.kind, p.vector(vw), p.v};
+  interact(scheme.neighbors(), wv, [&](std::size_t i) { return p.kind[i] == Kind::Wall; });
   const double R = 0.5 * g.cylinder_d;
   auto use = [&](std::size_t) { return true; };
   auto in_solid = [&](const Vec2& x) { return R > 0.0 && (x - Vec2(0.5, 0.5)).norm() < R; };
@@ -196,14 +186,9 @@ RunResult run(const Params& prm, const RunContext& ctx, bool cylinder) {
 } // namespace
 
 RunResult run_cavity_wcsph_tvf(const Params& prm, const RunContext& ctx, bool cylinder) {
-  const std::string& k = get_string(prm, "kernel");
-  if (k == "wendland_c2")
-    return run<WendlandC2<2>>(prm, ctx, cylinder);
-  if (k == "cubic_spline")
-    return run<CubicSpline<2>>(prm, ctx, cylinder);
-  if (k == "quintic_spline")
-    return run<QuinticSpline<2>>(prm, ctx, cylinder);
-  throw std::invalid_argument("cavity: unknown kernel '" + k + "' for scheme wcsph_tvf");
+  return with_kernel<2>(get_string(prm, "kernel"), 1.0, [&](const auto& k) {
+    return run<std::decay_t<decltype(k)>>(prm, ctx, cylinder);
+  });
 }
 
 } // namespace sph

@@ -270,9 +270,7 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
                             {"cc/scheme", &carried}});
   if (auto at = ck.restore()) {
     scheme.restore_carried_state(carried);
-    if (a.size() != 19)
-      throw std::runtime_error("cylinder_channel: checkpoint loop state has " +
-                               std::to_string(a.size()) + " values, expected 19");
+    io::expect_state_size(a, 19, "cylinder_channel: checkpoint loop state");
     bin = Bin{a[0], a[1], a[2], a[3], a[4], a[5], static_cast<int>(a[6])};
     next_sample = a[7], div_sum = a[8], divmax_sum = a[9];
     settled_steps = static_cast<long>(a[10]), cp_time = a[11];
@@ -280,8 +278,7 @@ RunResult run_cylinder_channel(const Params& prm, const RunContext& ctx) {
     search_s = a[14], n_max = static_cast<std::size_t>(a[15]);
     next_id = static_cast<std::int64_t>(a[16]), cpu_before = a[17], wall_before = a[18];
     steps = static_cast<long>(at->first), t = at->second;
-    resumed =
-        "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
+    resumed = io::resumed_message(t, ctx.attempt);
   }
   auto cpu_so_far = [&] { return cpu_before + alsph::cpu_seconds() - cpu0; };
   auto wall_so_far = [&] {

@@ -169,15 +169,12 @@ RunResult run(const Params& prm, const RunContext& ctx) {
   if (auto at = ck.restore()) {
     scheme.init();
     scheme.restore_carried_state(carried);
-    if (loop.size() != 9)
-      throw std::runtime_error("cylinder_free_stream: checkpoint loop state has " +
-                               std::to_string(loop.size()) + " values, expected 9");
+    io::expect_state_size(loop, 9, "cylinder_free_stream: checkpoint loop state");
     bin = Bin{loop[0], loop[1], loop[2], loop[3], loop[4]};
     next_sample = loop[5], tv_ratio_max = loop[6], nudged = loop[7] != 0.0;
     wall_before = loop[8];
     steps = at->first, t = at->second;
-    res.message =
-        "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
+    res.message = io::resumed_message(t, ctx.attempt);
   }
   auto wall_so_far = [&] {
     return wall_before + std::chrono::duration<double>(clock::now() - t_start).count();

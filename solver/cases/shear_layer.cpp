@@ -172,9 +172,7 @@ RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
     std::string resumed;
     if (auto at = ck.restore()) {
       scheme.restore_carried_state(carried);
-      if (a.size() != 5)
-        throw std::runtime_error("shear_layer: checkpoint loop state has " +
-                                 std::to_string(a.size()) + " values, expected 5");
+      io::expect_state_size(a, 5, "shear_layer: checkpoint loop state");
       dt_sum = a[0], max_drho = a[1], fit_rms = a[2], next = static_cast<int>(a[3]);
       wall_before = a[4];
       steps = static_cast<long>(at->first), t = at->second;

@@ -135,8 +135,7 @@ RunResult run_tgv(const Params& prm, const RunContext& ctx) {
     scheme.init();
     scheme.restore_carried_state(carried);
     steps = at->first, t = at->second, tv_ratio_max = loop.at(0), spread_max = loop.at(1);
-    res.message =
-        "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(ctx.attempt) + ")";
+    res.message = io::resumed_message(t, ctx.attempt);
   }
   auto save_checkpoint = [&] {
     loop = {tv_ratio_max, spread_max};
@@ -253,14 +252,9 @@ CaseInfo make_taylor_green_case() {
   };
   c.run = [](const Params& prm, const RunContext& ctx) {
     omp_set_num_threads(std::max(1, ctx.threads));
-    const std::string& k = get_string(prm, "kernel");
-    if (k == "wendland_c2")
-      return run_tgv<WendlandC2<2>>(prm, ctx);
-    if (k == "cubic_spline")
-      return run_tgv<CubicSpline<2>>(prm, ctx);
-    if (k == "quintic_spline")
-      return run_tgv<QuinticSpline<2>>(prm, ctx);
-    throw std::invalid_argument("taylor_green: unknown kernel '" + k + "'");
+    return with_kernel<2>(get_string(prm, "kernel"), 1.0, [&](const auto& k) {
+      return run_tgv<std::decay_t<decltype(k)>>(prm, ctx);
+    });
   };
   return c;
 }

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -58,5 +59,19 @@ private:
   std::chrono::steady_clock::time_point last_;
   int saves_ = 0;
 };
+
+// Throws unless a restored state array holds n values ("<what> has <size> values, expected <n>"):
+// a checkpoint of another version of a loop or scheme.
+inline void expect_state_size(const std::vector<double>& a, std::size_t n,
+                              const std::string& what) {
+  if (a.size() != n)
+    throw std::runtime_error(what + " has " + std::to_string(a.size()) + " values, expected " +
+                             std::to_string(n));
+}
+
+// The message of a job that continued from its checkpoint.
+inline std::string resumed_message(double t, int attempt) {
+  return "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(attempt) + ")";
+}
 
 } // namespace sph::io

@@ -30,6 +30,7 @@
 
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "io/checkpoint.hpp"
 #include "operators/correction_matrix.hpp"
 #include "operators/interact.hpp"
 #include "operators/summation_density.hpp"
@@ -287,9 +288,7 @@ public:
             t.particle_steps};
   }
   void restore_carried_state(const std::vector<double>& c) {
-    if (c.size() != 7)
-      throw std::runtime_error("alsph: checkpoint state has " + std::to_string(c.size()) +
-                               " values, expected 7");
+    io::expect_state_size(c, 7, "alsph: checkpoint state");
     timers_ = Timers{c[0], c[1], c[2], c[3], static_cast<long>(c[4]), c[5], c[6]};
   }
 

@@ -55,6 +55,7 @@
 #include "core/cell_list.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "io/checkpoint.hpp"
 #include "operators/interact.hpp"
 #include "schemes/contact/riemann.hpp"
 
@@ -287,9 +288,7 @@ public:
     return {static_cast<double>(searches_), cells_ ? cells_->support() : 0.0};
   }
   void restore_carried_state(const std::vector<double>& c) {
-    if (c.size() != 2)
-      throw std::runtime_error("contact: checkpoint state has " + std::to_string(c.size()) +
-                               " values, expected 2");
+    io::expect_state_size(c, 2, "contact: checkpoint state");
     searches_ = static_cast<std::size_t>(c[0]);
     cells_ = c[1] > 0.0 ? std::make_unique<CellList<D>>(box_, c[1]) : nullptr;
   }

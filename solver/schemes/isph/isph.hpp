@@ -48,6 +48,7 @@
 #include "cases/case.hpp"
 #include "core/cell_list.hpp"
 #include "core/neighbor_list.hpp"
+#include "io/checkpoint.hpp"
 #include "operators/correction_matrix.hpp"
 #include "operators/interact.hpp"
 #include "operators/viscous_laplacian.hpp"
@@ -334,9 +335,7 @@ public:
     return s;
   }
   void restore_carried_state(const std::vector<double>& s) {
-    if (s.size() != 9 + D)
-      throw std::runtime_error("isph: checkpoint state has " + std::to_string(s.size()) +
-                               " values, expected " + std::to_string(9 + D));
+    io::expect_state_size(s, 9 + D, "isph: checkpoint state");
     steps_ = static_cast<long>(s[0]), iters_total_ = static_cast<long>(s[1]);
     clearance_corrections_ = static_cast<long>(s[2]);
     time_step_ = s[3], time_assemble_ = s[4], time_solve_ = s[5];

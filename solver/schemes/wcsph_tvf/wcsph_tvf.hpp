@@ -67,6 +67,7 @@
 #include "core/cell_list.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "io/checkpoint.hpp"
 #include "operators/correction_matrix.hpp"
 #include "operators/interact.hpp"
 
@@ -405,9 +406,7 @@ public:
     return {a_last_max_, static_cast<double>(acoustic_steps_)};
   }
   void restore_carried_state(const std::vector<double>& s) {
-    if (s.size() != 2)
-      throw std::runtime_error("wcsph_tvf: checkpoint state has " + std::to_string(s.size()) +
-                               " values, expected 2");
+    io::expect_state_size(s, 2, "wcsph_tvf: checkpoint state");
     a_last_max_ = s[0];
     acoustic_steps_ = static_cast<long>(s[1]);
   }
