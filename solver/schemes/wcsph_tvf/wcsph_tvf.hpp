@@ -517,15 +517,11 @@ public:
     // F_prior of the wall pressure extrapolation on the current positions (the step's own F_prior
     // and B are indexed in the order before the step's final cell sort).
     wf_prior_.resize(N);
-    ops::ViscousForce<D> all{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, wf_prior_};
-    interact(nl_, all, fluid_only());
-    for (std::size_t i = 0; i < N; ++i)
-      wf_prior_[i] += p_.m[i] * g_body_;
+    prior_force(wf_prior_);
     const std::vector<Mat<D>>* B = nullptr; // likewise the correction matrices, if used
     if (o_.kernel_correction) {
       wf_B_.resize(N, Mat<D>::Identity()), wf_trB_.resize(N);
-      CorrectionMatrix<D> cm{p_.V, wf_B_, wf_trB_};
-      interact(nl_, cm, fluid_only());
+      correction(wf_B_, wf_trB_);
       B = &wf_B_;
     }
     ops::ViscousForce<D> fv{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, wf_visc_, true};
@@ -624,19 +620,26 @@ private:
   }
 
   void correction_matrix() {
-    if (!o_.kernel_correction)
-      return;
-    CorrectionMatrix<D> op{p_.V, B_, traceB_};
+    if (o_.kernel_correction)
+      correction(B_, traceB_);
+  }
+  // The correction matrices of the fluid particles on the current neighbour list.
+  void correction(std::vector<Mat<D>>& B, std::vector<double>& trB) {
+    CorrectionMatrix<D> op{p_.V, B, trB};
     interact(nl_, op, fluid_only());
   }
 
   void viscous_force() {
-    ops::ViscousForce<D> op{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, f_prior_};
+    prior_force(f_prior_);
+  }
+  // F_prior = F^nu + m g of the fluid particles on the current neighbour list.
+  void prior_force(std::vector<Vec<D>>& out) {
+    ops::ViscousForce<D> op{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, out};
     interact(nl_, op, fluid_only());
     if (g_body_.squaredNorm() > 0.0)
       for (std::size_t i = 0; i < p_.size(); ++i)
         if (fluid(i))
-          f_prior_[i] += p_.m[i] * g_body_;
+          out[i] += p_.m[i] * g_body_;
   }
 
   // Eqs. (14)-(16) once per advection step, or Adami's a~ for the sub-steps.
