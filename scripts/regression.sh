@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Behaviour regression of the solver: runs the quick tier of every study in studies/ (and, with
+# --long, the longer jobs of tests/regression/*.toml) through the runner into a fresh database and
+# writes every job's physics metrics as CSV (study, job key, status, metric, value to 17 digits),
+# sorted, without the cost metrics (wall and CPU times and their ratios vary from run to run).
+#
+#   scripts/regression.sh capture OUT.csv [--long]   # write the export
+#   scripts/regression.sh compare BASE.csv [--long]  # run again and diff against BASE.csv
+#
+# A refactoring that must not change behaviour shows an empty diff (exit 0); any difference is
+# printed as the rows of each side (exit 1). The baselines are tests/regression/baseline_quick.csv
+# and baseline_long.csv, captured on the code before the scheme-interface redesign (issue 14).
+# Needs a Release build in build/ (scripts/build.sh).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+RUNNER="${RUNNER:-$ROOT/build/runner}"
+mode="${1:-}" file="${2:-}" long="${3:-}"
+[[ "$mode" == capture || "$mode" == compare ]] && [[ -n "$file" ]] ||
+  { echo "usage: $0 capture|compare FILE.csv [--long]" >&2; exit 2; }
+
+TMP="$(mktemp -d)"
+trap 'rm -rf "$TMP"' EXIT
+DB="$TMP/regression.sqlite"
+export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
+
+if [[ "$long" == --long ]]; then
+  studies=("$ROOT"/tests/regression/*.toml)
+  tier=()
+else
+  studies=()
+  for s in "$ROOT"/studies/*.toml; do
+    grep -q '^\[tiers\.quick\]' "$s" && studies+=("$s")
+  done
+  tier=(--tier quick)
+fi
+for s in "${studies[@]}"; do
+  echo "regression: $(basename "$s")" >&2
+  "$RUNNER" "$s" "${tier[@]}" --db "$DB" -j "${JOBS:-2}" --progress plain >"$TMP/run.log" 2>&1 ||
+    { cat "$TMP/run.log" >&2; echo "regression: $s exited non-zero" >&2; exit 1; }
+done
+
+# Cost metrics: anything measured in seconds of a clock (wall, cpu, time per ...), their shares and
+# ratios, the per-particle CPU costs, and the patch test's timer repeat count.
+cost="(metric LIKE '%wall%' OR metric LIKE '%cpu%' OR metric LIKE 'time\_%' ESCAPE '\\' OR metric LIKE '%\_s' ESCAPE '\\'
+       OR metric LIKE '%\_s\_per\_%' ESCAPE '\\' OR metric LIKE '%share%' OR metric LIKE '%over\_iteration%' ESCAPE '\\'
+       OR metric LIKE '%\_us\_%' ESCAPE '\\' OR metric = 'laplacian_repeats')"
+"$RUNNER" query --db "$DB" \
+  "SELECT study, job, status, metric, printf('%.17g', value) AS value FROM job_metrics
+   WHERE NOT $cost ORDER BY study, job, metric" >"$TMP/now.csv"
+
+if [[ "$mode" == capture ]]; then
+  cp "$TMP/now.csv" "$file"
+  echo "regression: $(($(wc -l <"$file") - 1)) metric rows written to $file" >&2
+else
+  if diff "$file" "$TMP/now.csv" >"$TMP/diff.txt"; then
+    echo "regression: identical to $file ($(($(wc -l <"$file") - 1)) metric rows)"
+  else
+    cat "$TMP/diff.txt"
+    echo "regression: DIFFERENT from $file ($(grep -c '^[<>]' "$TMP/diff.txt") rows differ)" >&2
+    exit 1
+  fi
+fi
