@@ -7,8 +7,9 @@
 #   scripts/regression.sh capture OUT.csv [--long]   # write the export
 #   scripts/regression.sh compare BASE.csv [--long]  # run again and diff against BASE.csv
 #
-# A refactoring that must not change behaviour shows an empty diff (exit 0); any difference is
-# printed as the rows of each side (exit 1). The baselines are tests/regression/baseline_quick.csv
+# A refactoring that must not change behaviour brings every baseline row back with the same value
+# (exit 0; rows of metrics added since are listed, not failed); a changed or missing row is
+# printed and fails (exit 1). The baselines are tests/regression/baseline_quick.csv
 # and baseline_long.csv, captured on the code before the scheme-interface redesign (issue 14).
 # Needs a Release build in build/ (scripts/build.sh).
 set -euo pipefail
@@ -52,11 +53,20 @@ if [[ "$mode" == capture ]]; then
   cp "$TMP/now.csv" "$file"
   echo "regression: $(($(wc -l <"$file") - 1)) metric rows written to $file" >&2
 else
-  if diff "$file" "$TMP/now.csv" >"$TMP/diff.txt"; then
-    echo "regression: identical to $file ($(($(wc -l <"$file") - 1)) metric rows)"
+  # Every baseline row must come back with the same value; rows of metrics the baseline does not
+  # have (a metric added since) are listed but do not fail.
+  awk -F, 'NR == FNR { if (FNR > 1) base[$1 FS $2 FS $3 FS $4] = $5; next }
+           FNR > 1 { k = $1 FS $2 FS $3 FS $4; if (k in base) { if (base[k] != $5) print "changed: " k ": " base[k] " -> " $5; delete base[k] } else print "added: " $0 }
+           END { for (k in base) print "missing: " k "," base[k] }' "$file" "$TMP/now.csv" | sort >"$TMP/diff.txt"
+  rows=$(($(wc -l <"$file") - 1))
+  added=$(grep -c '^added: ' "$TMP/diff.txt" || true)
+  bad=$(grep -c -v '^added: ' "$TMP/diff.txt" || true)
+  grep '^added: ' "$TMP/diff.txt" | sed 's/^/regression: /' | head -"${SHOW_ADDED:-20}"
+  if ((bad == 0)); then
+    echo "regression: identical to $file ($rows metric rows; $added rows of new metrics)"
   else
-    cat "$TMP/diff.txt"
-    echo "regression: DIFFERENT from $file ($(grep -c '^[<>]' "$TMP/diff.txt") rows differ)" >&2
+    grep -v '^added: ' "$TMP/diff.txt"
+    echo "regression: DIFFERENT from $file ($bad of $rows rows changed or missing)" >&2
     exit 1
   fi
 fi

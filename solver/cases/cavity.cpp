@@ -1,38 +1,34 @@
-// Geometry, parameters and run loop of the cavity cases (see cavity.hpp).
+// Geometry, parameters and the FlowCase of the cavity cases (see cavity.hpp), on the shared time
+// loop (cases/time_loop.hpp) with the job's scheme (isph: fixed steps dt; wcsph_tvf: its own
+// dual-criteria steps, the case's dt unused).
 //
-// Run loop (scheme-independent part): advance until t_end, or until the flow is steady: the
-// kinetic energy E_k is averaged over each window of steady_window time units (every step), and
-// the run stops when two consecutive window means differ by less than steady_tol times the last
-// (recorded: t_stop, steady = 1). The window mean, not E_k at one instant, because particle
-// disorder makes E_k flicker by a few 1e-3 at a steady state (measured: +-0.3 % at Re = 100,
-// dx = 0.02), which an instantaneous comparison would never see settle. Diverged when a
-// velocity is not finite or exceeds 20 U0. At the end the centreline profiles and metrics of
-// diagnostics/cavity_profiles.hpp are computed; with an output directory the HDF5 file
-// <output_dir>/<case>.h5 holds the E_k history, the fine-line profiles and the final fields.
+// Per step: E_k and the largest |rho / rho0 - 1| of the fluid (density_dev_max: the
+// compressibility of a weakly-compressible scheme, about (U/c0)^2 = 1 % by design; 0 for ISPH);
+// the steady-state window (SteadyWindow: t_stop, steady = 1); a history sample every
+// output_interval (HDF5 history/{t, ke, density_dev} and the scheme's probes, ISPH: div_max,
+// ppe_iters), the scheme asked for its costly diagnostics on the steps that end on a sample.
+// Diverged when a fluid velocity is not finite or exceeds 20 U0 (checked every step).
+// At the end the solid particles take the no-slip mirror velocity the fluid sees, and the
+// centreline profiles and metrics of diagnostics/cavity_profiles.hpp are computed with the
+// scheme's kernel; with an output directory <output_dir>/<case>.h5 holds the history, the
+// fine-line profiles and the final fields.
 //
-// Metrics besides the profiles: ke, div_max (max |div u| of the final velocity, eq. 4, fluid
-// particles) and its position div_max_x, div_max_y, div_rms (RMS over the fluid), t_stop,
-// steady, steps, wall_time_s, time_per_step_s (wall clock), cpu_time_per_step_s (process CPU
-// time of the time loop over its steps: the honest cost on a shared machine, where wall time
-// also counts the other processes), ppe_assembly_s_per_step, ppe_solve_s_per_step, ppe_share
-// (assembly + solve over the step, wall clock), ppe_iters_mean, ppe_residual (relative residual
-// of the last solve), wall_clearance_corrections (see isph.hpp), n_particles, n_fluid.
+// Metrics besides the profiles: ke, t_stop, steady, density_dev_max, n_fluid, the scheme's own
+// (isph: div_max, div_max_x, div_max_y, div_rms of the last measured step, ppe_*; wcsph_tvf:
+// acoustic_steps) and the loop's costs (steps, wall_time_s, time_per_step_s, cpu_time_per_step_s,
+// time_per_particle_step_s, n_particles).
 //
-// Checkpoints (io/checkpoint.hpp, with a checkpoint directory): every particle field (the
-// pressure is the PPE's warm start), the scheme's counters, this loop's state (the steady-state
-// window, CPU and wall time so far) and the E_k history. A resumed job rebuilds the initial lattice
-// (so the scheme's reference density is the same), restores the particles and continues bit for
-// bit: the saved particles are in the order of the last neighbour search's cells plus that step's
-// motion, exactly what the uninterrupted run sorts next.
+// Checkpoints: the loop's (particles, costs), this case's state (sample clock, steady window,
+// density extreme, history) and the scheme's; a resumed job rebuilds the initial lattice (so the
+// scheme's reference density is the same) and continues bit for bit.
 #include "cases/cavity.hpp"
 
+#include "cases/time_loop.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/cavity_profiles.hpp"
 #include "io/hdf5.hpp"
-#include "io/particle_checkpoint.hpp"
 #include "io/particle_fields.hpp"
-#include "schemes/isph/isph.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -124,153 +120,136 @@ std::vector<ParamSpec> cavity_params(bool cylinder) {
 
 namespace {
 
-template <class Kernel>
-RunResult run_cavity_isph(const Params& prm, const RunContext& ctx, bool cylinder,
-                          const Kernel& kernel, const IsphOptions& opt) {
-  using clock = std::chrono::steady_clock;
-  const auto t_start = clock::now();
-  const double Re = get_real(prm, "Re"), dx = get_real(prm, "dx"), dt = get_real(prm, "dt");
-  const double t_end = get_real(prm, "t_end"), steady_tol = get_real(prm, "steady_tol");
-  const double window = get_real(prm, "steady_window");
-  const double out_dt = get_real(prm, "output_interval");
-  const double U0 = 1.0, nu = U0 * 1.0 / Re;
-
-  const CavityGeometry g = cavity_geometry(prm, cylinder, kernel.support());
-  Particles<2> p;
-  const int vw = build_cavity(p, g);
-  std::size_t n_fluid = 0;
-  for (auto k : p.kind)
-    n_fluid += k == Kind::Fluid;
-
-  Domain<2> box;
-  Isph<2, Kernel> solver(p, box, kernel, opt, vw, nu, dt, dx);
-
-  RunResult res;
-  std::vector<double> h_t, h_ke, h_div, h_it;
-  const long n_steps = static_cast<long>(std::ceil(t_end / dt - 1e-9));
-  const long out_every = std::max(1L, std::lround(out_dt / dt));
-  const long steady_every = std::max(1L, std::lround(window / dt));
-  double ke_prev = -1.0, ke_sum = 0.0, t = 0.0;
-  double cpu_before = 0.0, wall_before = 0.0; // spent by earlier attempts (checkpoints)
-  bool steady = false;
-  long n = 0;
-  std::string resumed;
-
-  std::vector<double> loop, carried;
-  io::LoopCheckpoint<2> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
-                           p,
-                           {{"cavity/t", &h_t},
-                            {"cavity/ke", &h_ke},
-                            {"cavity/div", &h_div},
-                            {"cavity/iters", &h_it},
-                            {"cavity/loop", &loop},
-                            {"cavity/scheme", &carried}});
-  if (auto at = ck.restore()) {
-    solver.restore_carried_state(carried);
-    ke_prev = loop.at(0), ke_sum = loop.at(1), cpu_before = loop.at(2), wall_before = loop.at(3);
-    n = static_cast<long>(at->first), t = at->second;
-    resumed = io::resumed_message(t, ctx.attempt);
-  }
-  const std::clock_t cpu0 = std::clock();
-  auto cpu_so_far = [&] {
-    return cpu_before + static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
-  };
-  auto save_checkpoint = [&](long steps_done) {
-    const double wall = std::chrono::duration<double>(clock::now() - t_start).count();
-    loop = {ke_prev, ke_sum, cpu_so_far(), wall_before + wall};
-    carried = solver.carried_state();
-    ck.save(steps_done, t);
-  };
-
-  for (; n < n_steps; ++n) {
-    if (stop_if_cancelled(ctx, t, res, [&] { save_checkpoint(n); }))
-      return res;
-    const bool sample = (n + 1) % out_every == 0 || n + 1 == n_steps;
-    solver.set_measure_divergence(sample);
-    try {
-      solver.step();
-    } catch (const std::runtime_error& e) { // a failed PPE solve: the particle state is broken
-      res.status = RunStatus::Diverged;
-      res.message = std::string(e.what()) + " at t = " + std::to_string(t);
-      res.add("t_stop", t);
-      return res;
-    }
-    t = (n + 1) * dt;
-    if (sample) {
-      double vmax = 0.0;
-      for (std::size_t i = 0; i < p.size(); ++i)
-        if (p.kind[i] == Kind::Fluid)
-          vmax = std::max(vmax, std::isfinite(p.v[i].squaredNorm()) ? p.v[i].norm() : 1e300);
-      if (!(vmax < 20.0 * U0)) {
-        res.status = RunStatus::Diverged;
-        res.message = "velocity " + std::to_string(vmax) + " at t = " + std::to_string(t);
-        res.add("t_stop", t);
-        return res;
-      }
-      h_t.push_back(t), h_ke.push_back(kinetic_energy(p)), h_div.push_back(solver.div_max());
-      h_it.push_back(solver.last_iterations());
-      ctx.report(t / t_end);
-    }
-    ke_sum += kinetic_energy(p);
-    if ((n + 1) % steady_every == 0) {
-      const double ke = ke_sum / static_cast<double>(steady_every);
-      ke_sum = 0.0;
-      if (steady_tol > 0.0 && ke_prev > 0.0 && std::abs(ke - ke_prev) < steady_tol * ke) {
-        steady = true;
-        ++n;
-        break;
-      }
-      ke_prev = ke;
-    }
-    if (ck.due(n + 1))
-      save_checkpoint(n + 1);
-  }
-  const double cpu_loop = cpu_so_far();
-  // Final divergence of the last step's velocity (measured on the configuration it was made on).
-  double div_max = solver.div_max();
-  const double div_rms = solver.div_rms();
-  const Vec2 div_at = solver.div_argmax();
-  if (!(h_t.size() && h_t.back() == t)) {
-    h_t.push_back(t), h_ke.push_back(kinetic_energy(p)), h_div.push_back(div_max);
-    h_it.push_back(solver.last_iterations());
+class Cavity final : public FlowCase<2> {
+public:
+  Cavity(const Params& prm, bool cylinder) : prm_(prm), cylinder_(cylinder) {
+    Re_ = get_real(prm, "Re"), dx_ = get_real(prm, "dx");
+    t_end_ = get_real(prm, "t_end"), out_dt_ = get_real(prm, "output_interval");
+    steady_.window = get_real(prm, "steady_window"), steady_.tol = get_real(prm, "steady_tol");
   }
 
-  solver.update_wall_velocity();
-  const double R = 0.5 * g.cylinder_d;
-  auto use = [&](std::size_t) { return true; };
-  auto in_solid = [&](const Vec2& x) { return R > 0.0 && (x - Vec2(0.5, 0.5)).norm() < R; };
-  const data::GhiaTable ghia = cylinder ? data::GhiaTable{} : data::ghia_table(Re);
-  CavityProfiles prof = cavity_profile_metrics(p, kernel, use, in_solid, ghia, res);
+  Flow<2> build(Particles<2>& p) override {
+    p_ = &p;
+    const double support =
+        kernel_support_factor(get_string(prm_, "kernel")) * (get_real(prm_, "h_over_dx") * dx_);
+    g_ = cavity_geometry(prm_, cylinder_, support);
+    Flow<2> f;
+    f.v_wall = build_cavity(p, g_);
+    for (auto k : p.kind)
+      n_fluid_ += k == Kind::Fluid;
+    f.rho0 = 1.0, f.U = g_.U0, f.L = 1.0, f.Re = Re_, f.dx = dx_;
+    f.dt = get_real(prm_, "dt");
+    return f;
+  }
+  void start(FlowScheme<2>& s) override {
+    sample(s, 0.0, 0.0);
+    next_out_ = out_dt_;
+  }
+  double t_end() const override { return t_end_; }
+  double speed_bound() const override { return 20.0 * g_.U0; }
 
-  const double wall = wall_before + std::chrono::duration<double>(clock::now() - t_start).count();
-  const double steps = static_cast<double>(solver.steps());
-  res.add("ke", kinetic_energy(p));
-  res.add("div_max", div_max);
-  res.add("div_max_x", div_at.x());
-  res.add("div_max_y", div_at.y());
-  res.add("div_rms", div_rms);
-  res.add("t_stop", t);
-  res.add("steady", steady ? 1.0 : 0.0);
-  res.add("steps", steps);
-  res.add("wall_time_s", wall);
-  res.add("time_per_step_s", solver.time_step() / steps);
-  res.add("cpu_time_per_step_s", cpu_loop / steps);
-  res.add("ppe_assembly_s_per_step", solver.time_assemble() / steps);
-  res.add("ppe_solve_s_per_step", solver.time_solve() / steps);
-  res.add("ppe_share", (solver.time_assemble() + solver.time_solve()) / solver.time_step());
-  res.add("ppe_iters_mean", static_cast<double>(solver.iterations_total()) / steps);
-  res.add("ppe_residual", solver.ppe_residual());
-  res.add("wall_clearance_corrections", static_cast<double>(solver.clearance_corrections()));
-  res.add("n_particles", static_cast<double>(p.size()));
-  res.add("n_fluid", static_cast<double>(n_fluid));
-  res.message = cavity_run_message(steady, t, resumed);
-  write_cavity_h5(ctx.output_dir, cylinder,
-                  {{{"scheme", "isph"}, {"visc", get_string(prm, "visc")}},
-                   {{"Re", Re}, {"dx", dx}, {"t_stop", t}}},
-                  {"t", "ke", "div_max", "ppe_iters"}, {h_t, h_ke, h_div, h_it}, prof, p);
-  ck.discard(); // the results are final
-  return res;
-}
+  void before_step(FlowScheme<2>& s, const LoopState& at) override {
+    s.measure_next_step(sample_due(at.t + s.stable_dt()));
+  }
+  bool after_step(FlowScheme<2>& s, const LoopState& at, const StepStats& st) override {
+    const double ke = kinetic_energy(*p_), drho = density_dev();
+    drho_max_ = std::max(drho_max_, drho);
+    if (sample_due(at.t)) {
+      sample(s, at.t, drho, ke);
+      while (next_out_ <= at.t * (1.0 + 1e-12))
+        next_out_ += out_dt_;
+    }
+    steady_now_ = steady_.add(ke, st.dt);
+    return steady_now_;
+  }
+
+  void finish(FlowScheme<2>& s, const LoopState& at, RunResult& res) override {
+    if (!(hist_[0].size() && hist_[0].back() == at.t))
+      sample(s, at.t, density_dev());
+    s.wall_velocities_for_output();
+    const double R = 0.5 * g_.cylinder_d;
+    auto use = [&](std::size_t) { return true; };
+    auto in_solid = [&](const Vec2& x) { return R > 0.0 && (x - Vec2(0.5, 0.5)).norm() < R; };
+    const data::GhiaTable ghia = cylinder_ ? data::GhiaTable{} : data::ghia_table(Re_);
+    const CavityProfiles prof = with_kernel<2>(s.kernel_name(), s.h(), [&](const auto& W) {
+      return cavity_profile_metrics(*p_, W, use, in_solid, ghia, res);
+    });
+    res.add("ke", kinetic_energy(*p_));
+    res.add("t_stop", at.t);
+    res.add("steady", steady_now_ ? 1.0 : 0.0);
+    res.add("density_dev_max", drho_max_);
+    res.add("n_fluid", static_cast<double>(n_fluid_));
+    CavityAttributes attrs{{}, {{"Re", Re_}, {"dx", dx_}, {"t_stop", at.t}}};
+    for (const auto& [k, v] : prm_)
+      if (auto str = std::get_if<std::string>(&v))
+        attrs.text.emplace_back(k, *str);
+    write_cavity_h5(output_dir_, cylinder_, attrs, hist_names_, hist_, prof, *p_);
+  }
+  std::string summary(const LoopState& at) const override {
+    return cavity_run_message(steady_now_, at.t, "");
+  }
+
+  std::vector<std::string> state_names() const override {
+    std::vector<std::string> n{"cavity/loop"};
+    for (const auto& h : hist_names_)
+      n.push_back("cavity/history/" + h);
+    return n;
+  }
+  void save_state(StateArrays& out) const override {
+    std::vector<double> a = steady_.state();
+    a.push_back(next_out_), a.push_back(drho_max_);
+    out["cavity/loop"] = a;
+    for (std::size_t k = 0; k < hist_names_.size(); ++k)
+      out["cavity/history/" + hist_names_[k]] = hist_[k];
+  }
+  void load_state(const StateArrays& in) override {
+    const auto& a = in.at("cavity/loop");
+    io::expect_state_size(a, 5, "checkpoint array cavity/loop");
+    steady_.restore(a), next_out_ = a[3], drho_max_ = a[4];
+    for (std::size_t k = 0; k < hist_names_.size(); ++k)
+      hist_[k] = in.at("cavity/history/" + hist_names_[k]);
+  }
+
+  std::filesystem::path output_dir_;
+
+private:
+  const Params& prm_;
+  bool cylinder_;
+  double Re_, dx_, t_end_, out_dt_;
+  CavityGeometry g_;
+  Particles<2>* p_ = nullptr;
+  std::size_t n_fluid_ = 0;
+  SteadyWindow steady_;
+  bool steady_now_ = false;
+  double next_out_ = 0.0, drho_max_ = 0.0;
+  std::vector<std::string> hist_names_;
+  std::vector<std::vector<double>> hist_;
+
+  bool sample_due(double t) const {
+    return t >= next_out_ * (1.0 - 1e-12) || t >= t_end_ * (1.0 - 1e-12);
+  }
+  double density_dev() const {
+    double d = 0.0;
+    for (std::size_t i = 0; i < p_->size(); ++i)
+      if (p_->kind[i] == Kind::Fluid)
+        d = std::max(d, std::abs(p_->rho[i] - 1.0)); // rho0 = 1
+    return d;
+  }
+  // One history row: t, E_k, density deviation and the scheme's probes (named on first use).
+  void sample(const FlowScheme<2>& s, double t, double drho, double ke = -1.0) {
+    std::vector<std::pair<std::string, double>> row{
+        {"t", t}, {"ke", ke < 0.0 ? kinetic_energy(*p_) : ke}, {"density_dev", drho}};
+    for (auto& pr : s.probes())
+      row.push_back(pr);
+    if (hist_names_.empty()) {
+      for (auto& [n, v] : row)
+        hist_names_.push_back(n);
+      hist_.resize(row.size());
+    }
+    for (std::size_t k = 0; k < row.size() && k < hist_.size(); ++k)
+      hist_[k].push_back(row[k].second);
+  }
+};
 
 } // namespace
 
@@ -299,19 +278,9 @@ void write_cavity_h5(const std::filesystem::path& output_dir, bool cylinder,
 }
 
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder) {
-  auto it = prm.find("scheme");
-  const std::string scheme = it == prm.end() ? "isph" : get_string(prm, "scheme");
-  omp_set_num_threads(std::max(1, ctx.threads));
-  if (scheme == "isph") {
-    const IsphOptions opt = IsphOptions::from_params(prm);
-    const double h = opt.h_over_dx * get_real(prm, "dx");
-    return with_kernel<2>(opt.kernel, h, [&](const auto& kernel) {
-      return run_cavity_isph(prm, ctx, cylinder, kernel, opt);
-    });
-  }
-  if (scheme == "wcsph_tvf")
-    return run_cavity_wcsph_tvf(prm, ctx, cylinder);
-  throw std::invalid_argument("cavity: unknown scheme '" + scheme + "'");
+  Cavity c(prm, cylinder);
+  c.output_dir_ = ctx.output_dir;
+  return run_flow_case<2>(c, prm, ctx, "isph");
 }
 
 } // namespace sph

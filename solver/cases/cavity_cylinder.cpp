@@ -17,4 +17,8 @@ CaseInfo make_cavity_cylinder_case() {
   return c;
 }
 
+namespace {
+const Registrar<CaseInfo> registered(make_cavity_cylinder_case()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

@@ -126,4 +126,8 @@ CaseInfo make_checkpoint_demo_case() {
   return c;
 }
 
+namespace {
+const Registrar<CaseInfo> registered(make_checkpoint_demo_case()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

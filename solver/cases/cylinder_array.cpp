@@ -232,4 +232,8 @@ CaseInfo make_cylinder_array_case() {
   return c;
 }
 
+namespace {
+const Registrar<CaseInfo> registered(make_cylinder_array_case()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

@@ -559,4 +559,8 @@ CaseInfo make_cylinder_channel_case() {
   return c;
 }
 
+namespace {
+const Registrar<CaseInfo> registered(make_cylinder_channel_case()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

@@ -352,4 +352,8 @@ CaseInfo make_cylinder_free_stream_case() {
   return c;
 }
 
+namespace {
+const Registrar<CaseInfo> registered(make_cylinder_free_stream_case()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

@@ -16,4 +16,8 @@ CaseInfo make_lid_driven_cavity_case() {
   return c;
 }
 
+namespace {
+const Registrar<CaseInfo> registered(make_lid_driven_cavity_case()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

@@ -170,4 +170,8 @@ CaseInfo make_patch_test_case() {
   return c;
 }
 
+namespace {
+const Registrar<CaseInfo> registered(make_patch_test_case()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

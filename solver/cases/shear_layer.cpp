@@ -364,4 +364,8 @@ CaseInfo make_shear_layer_case() {
   return c;
 }
 
+namespace {
+const Registrar<CaseInfo> registered(make_shear_layer_case()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

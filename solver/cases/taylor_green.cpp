@@ -33,13 +33,13 @@
 // With a checkpoint directory the run saves its whole state every N steps / M seconds and on
 // cancellation, and resumes from it bit for bit (tests/solver/test_wcsph_tvf.cpp).
 #include "cases/case.hpp"
+#include "cases/time_loop.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/profiles.hpp"
 #include "io/hdf5.hpp"
-#include "io/particle_checkpoint.hpp"
 #include "io/particle_fields.hpp"
-#include "schemes/wcsph_tvf/scheme_info.hpp"
+#include "schemes/wcsph_tvf/wcsph_tvf.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -57,181 +57,189 @@ Vec2 tgv_velocity(const Vec2& x, double factor) {
                        std::sin(two_pi * x[0]) * std::cos(two_pi * x[1]));
 }
 
-template <class K>
-RunResult run_tgv(const Params& prm, const RunContext& ctx) {
+class TaylorGreen final : public FlowCase<2> {
+public:
+  explicit TaylorGreen(const Params& prm) : prm_(prm) {
+    n_ = static_cast<int>(get_int(prm, "n_side"));
+    Re_ = get_real(prm, "Re"), t_end_ = get_real(prm, "t_end");
+    b_ = -8.0 * std::numbers::pi * std::numbers::pi / Re_;
+  }
+
+  Flow<2> build(Particles<2>& p) override {
+    p_ = &p;
+    const double dx = L / n_, perturb = get_real(prm_, "perturb");
+    const double support =
+        kernel_support_factor(get_string(prm_, "kernel")) * (get_real(prm_, "h_over_dx") * dx);
+    if (3.0 * support > L)
+      throw std::invalid_argument("taylor_green: n_side = " + std::to_string(n_) +
+                                  " is too small: the periodic box must hold 3 kernel supports");
+    p.reserve(static_cast<std::size_t>(n_) * n_);
+    UniformRandom rn(static_cast<std::uint64_t>(get_int(prm_, "seed")));
+    for_each_lattice_point<2>({0, 0}, {n_, n_}, dx, [&](Vec2 x, const std::array<int, 2>&) {
+      if (perturb > 0.0)
+        for (int a = 0; a < 2; ++a)
+          x[a] += (rn() - 0.5) * perturb * dx;
+      const std::size_t i = p.add(x, rho0 * dx * dx, rho0);
+      p.v[i] = tgv_velocity(x, U);
+    });
+    Flow<2> f;
+    f.box.lo = Vec2::Zero(), f.box.hi = Vec2::Constant(L);
+    f.box.periodic = {true, true};
+    f.rho0 = rho0, f.U = U, f.L = L, f.Re = Re_, f.dx = dx;
+    return f;
+  }
+  void start(FlowScheme<2>&) override {
+    ke0_ = kinetic_energy(*p_); // every particle is fluid
+    s_ = {{0.0}, {ke0_}, {ke0_}, {umax()}, {U}, {0.0}, {0.0}, {0.0}};
+  }
+  double t_end() const override { return t_end_; }
+  double speed_bound() const override { return 10.0 * U; }
+
+  // The uniformity of the configuration the step starts from (what the step's density summation
+  // measures: sum_j W_ij on the neighbour list built at the end of the previous step).
+  void before_step(FlowScheme<2>& s, const LoopState&) override {
+    double rms = 0.0;
+    sumw_stats(number_density(s), spread_, rms);
+  }
+  bool after_step(FlowScheme<2>&, const LoopState& at, const StepStats& st) override {
+    const double t = at.t, ke = kinetic_energy(*p_), um = umax(), spread = spread_;
+    spread_max_ = std::max(spread_max_, spread);
+    const double ratio = st.v_max > 0.0 ? st.tv_max / st.v_max : 0.0;
+    tv_ratio_max_ = std::max(tv_ratio_max_, ratio);
+    const double row[] = {
+        t, ke, ke0_ * std::exp(2.0 * b_ * t), um, U * std::exp(b_ * t), st.tv_max, ratio, spread};
+    for (std::size_t k = 0; k < s_.size(); ++k)
+      s_[k].push_back(row[k]);
+    return false;
+  }
+
+  void finish(FlowScheme<2>& s, const LoopState& at, RunResult& res) override {
+    const double t = at.t;
+    const auto& s_t = s_[0];
+    const auto& s_ke = s_[1];
+    // Least-squares slope of ln E_k against t.
+    double st = 0.0, sy = 0.0, stt = 0.0, sty = 0.0;
+    const double m = static_cast<double>(s_t.size());
+    for (std::size_t k = 0; k < s_t.size(); ++k) {
+      const double y = std::log(s_ke[k]);
+      st += s_t[k], sy += y, stt += s_t[k] * s_t[k], sty += s_t[k] * y;
+    }
+    const double rate = (m * sty - st * sy) / (m * stt - st * st);
+    const double rate_ex = 2.0 * b_;
+
+    // Final distribution: sum_j W_ij at t_end on the neighbour list of the final positions.
+    double spread_end = 0.0, rms_end = 0.0;
+    sumw_stats(number_density(s), spread_end, rms_end);
+    spread_max_ = std::max(spread_max_, spread_end);
+    double l1 = 0.0, l1_ref = 0.0;
+    const double fac = U * std::exp(b_ * t);
+    for (std::size_t i = 0; i < p_->size(); ++i) {
+      const double ve = tgv_velocity(p_->r[i], fac).norm();
+      l1 += std::abs(p_->v[i].norm() - ve), l1_ref += ve;
+    }
+    const double ke_end = s_ke.back(), um_end = s_[3].back();
+    const double wall = std::chrono::duration<double>(clock::now() - t0_).count();
+    const double N = static_cast<double>(p_->size()), steps = static_cast<double>(at.steps);
+    res.add("ke_rate_rel_err", std::abs(rate - rate_ex) / std::abs(rate_ex));
+    res.add("ke_rel_err_end", std::abs(ke_end / (ke0_ * std::exp(2.0 * b_ * t)) - 1.0));
+    res.add("umax_rel_err_end", std::abs(um_end / std::exp(b_ * t) - 1.0));
+    res.add("l1_vel_err_end", l1 / l1_ref);
+    res.add("tv_ratio_max", tv_ratio_max_);
+    res.add("sumW_spread_end", spread_end);
+    res.add("sumW_rms_end", rms_end);
+    res.add("sumW_spread_max", spread_max_);
+    res.add("ke_rate", rate);
+    res.add("ke_rate_exact", rate_ex);
+    res.add("ke_end", ke_end);
+    res.add("umax_end", um_end);
+    res.add("t_end", t);
+    res.add("advection_steps", steps);
+    res.add("wall_s", wall);
+    res.add("time_per_particle_adv_step_s", wall / (N * steps));
+    if (!output_dir_.empty()) {
+      io::H5Writer w(output_dir_ / "taylor_green.h5");
+      w.attribute("tvf", get_string(prm_, "tvf"));
+      w.attribute("n_side", static_cast<double>(n_));
+      w.attribute("Re", Re_);
+      w.write_columns("series", names(), s_);
+      io::write_fluid_fields(w, *p_); // every particle is fluid
+      w.close();
+    }
+  }
+
+  std::vector<std::string> state_names() const override {
+    std::vector<std::string> n{"tg/loop"};
+    for (const auto& x : names())
+      n.push_back("tg/series/" + x);
+    return n;
+  }
+  void save_state(StateArrays& out) const override {
+    out["tg/loop"] = {tv_ratio_max_, spread_max_};
+    for (std::size_t k = 0; k < s_.size(); ++k)
+      out["tg/series/" + names()[k]] = s_[k];
+  }
+  void load_state(const StateArrays& in) override {
+    const auto& a = in.at("tg/loop");
+    io::expect_state_size(a, 2, "checkpoint array tg/loop");
+    tv_ratio_max_ = a[0], spread_max_ = a[1];
+    for (std::size_t k = 0; k < s_.size(); ++k)
+      s_[k] = in.at("tg/series/" + names()[k]);
+  }
+
+  std::filesystem::path output_dir_;
+
+private:
   using clock = std::chrono::steady_clock;
-  const auto t0 = clock::now();
-  const int n = static_cast<int>(get_int(prm, "n_side"));
-  const double Re = get_real(prm, "Re"), t_end = get_real(prm, "t_end");
-  const double perturb = get_real(prm, "perturb");
-  const double L = 1.0, U = 1.0, rho0 = 1.0, dx = L / n;
+  static constexpr double L = 1.0, U = 1.0, rho0 = 1.0;
+  const Params& prm_;
+  int n_;
+  double Re_, t_end_, b_;
+  Particles<2>* p_ = nullptr;
+  double ke0_ = 0.0, tv_ratio_max_ = 0.0, spread_max_ = 0.0, spread_ = 0.0, sigma0_ = 0.0;
+  std::vector<std::vector<double>> s_; // the series, named by names()
+  clock::time_point t0_ = clock::now();
 
-  const wcsph_tvf::Options o = wcsph_tvf::options_for_flow(prm, rho0, U, L, Re, dx);
-
-  Particles<2> p;
-  p.reserve(static_cast<std::size_t>(n) * n);
-  UniformRandom rn(static_cast<std::uint64_t>(get_int(prm, "seed")));
-  for_each_lattice_point<2>({0, 0}, {n, n}, dx, [&](Vec2 x, const std::array<int, 2>&) {
-    if (perturb > 0.0)
-      for (int a = 0; a < 2; ++a)
-        x[a] += (rn() - 0.5) * perturb * dx;
-    const std::size_t i = p.add(x, rho0 * dx * dx, rho0);
-    p.v[i] = tgv_velocity(x, U);
-  });
-  const wcsph_tvf::Fields f = wcsph_tvf::Fields::add_to(p);
-  Domain<2> box;
-  box.lo = Vec2::Zero(), box.hi = Vec2::Constant(L);
-  box.periodic = {true, true};
-  const K kernel(o.h);
-  if (3.0 * kernel.support() > L)
-    throw std::invalid_argument("taylor_green: n_side = " + std::to_string(n) +
-                                " is too small: the periodic box must hold 3 kernel supports");
-  wcsph_tvf::Scheme<2, K> scheme(p, f, box, o);
-  scheme.init();
-
-  const double b = -8.0 * std::numbers::pi * std::numbers::pi / Re;
-  auto kinetic = [&]() { return kinetic_energy(p); }; // every particle is fluid
-  auto umax = [&]() {
+  static const std::vector<std::string>& names() {
+    static const std::vector<std::string> n{"t",          "ke",     "ke_exact", "umax",
+                                            "umax_exact", "tv_max", "tv_ratio", "sumW_spread"};
+    return n;
+  }
+  double umax() const {
     double v = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      v = std::max(v, p.v[i].norm());
+    for (std::size_t i = 0; i < p_->size(); ++i)
+      v = std::max(v, p_->v[i].norm());
     return v;
-  };
-  // Spread and RMS of sum_j W_ij / sigma0 - 1 over the particles.
-  auto sumw_stats = [&](const std::vector<double>& s, double& spread, double& rms) {
+  }
+  // Sum_j W_ij (self term included) of every particle on the scheme's current neighbour list,
+  // and sigma0, its value on the perfect lattice.
+  std::vector<double> number_density(const FlowScheme<2>& s) const {
+    const auto& nl = s.neighbors();
+    const double W0 =
+        with_kernel<2>(s.kernel_name(), s.h(), [](const auto& W) { return W.W(0.0); });
+    std::vector<double> out(p_->size());
+    for (std::size_t i = 0; i < p_->size(); ++i) {
+      double w = W0;
+      for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k)
+        w += nl.W[k];
+      out[i] = w;
+    }
+    return out;
+  }
+  // Spread and RMS of sum_j W_ij / sigma0 - 1 over the particles, sigma0 the perfect lattice's.
+  void sumw_stats(const std::vector<double>& w, double& spread, double& rms) {
+    if (!(sigma0_ > 0.0))
+      sigma0_ = with_kernel<2>(
+          get_string(prm_, "kernel"), get_real(prm_, "h_over_dx") * (L / n_),
+          [&](const auto& W) { return wcsph_tvf::lattice_number_density<2>(W, L / n_); });
     double lo = 1e300, hi = -1e300, sq = 0.0;
-    for (double w : s) {
-      const double x = w / scheme.sigma0();
-      lo = std::min(lo, x), hi = std::max(hi, x), sq += (x - 1.0) * (x - 1.0);
+    for (double x : w) {
+      const double y = x / sigma0_;
+      lo = std::min(lo, y), hi = std::max(hi, y), sq += (y - 1.0) * (y - 1.0);
     }
     spread = hi - lo;
-    rms = std::sqrt(sq / static_cast<double>(s.size()));
-  };
-
-  const double ke0 = kinetic();
-  std::vector<double> s_t{0.0}, s_ke{ke0}, s_ke_ex{ke0}, s_um{umax()}, s_um_ex{U};
-  std::vector<double> s_tv{0.0}, s_ratio{0.0}, s_spread{0.0};
-  RunResult res;
-  double t = 0.0, tv_ratio_max = 0.0, spread_max = 0.0;
-  long steps = 0;
-
-  // Checkpoints (io/checkpoint.hpp): every particle field, the scheme's carried state, this
-  // loop's state and the series so far. A resumed run continues bit for bit: the saved particles
-  // are in cell order, so re-sorting them in init() is the identity.
-  std::vector<double> loop, carried;
-  io::LoopCheckpoint<2> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
-                           p,
-                           {{"tg/t", &s_t},
-                            {"tg/ke", &s_ke},
-                            {"tg/ke_ex", &s_ke_ex},
-                            {"tg/um", &s_um},
-                            {"tg/um_ex", &s_um_ex},
-                            {"tg/tv", &s_tv},
-                            {"tg/ratio", &s_ratio},
-                            {"tg/spread", &s_spread},
-                            {"tg/loop", &loop},
-                            {"tg/scheme", &carried}});
-  if (auto at = ck.restore()) {
-    scheme.init();
-    scheme.restore_carried_state(carried);
-    steps = at->first, t = at->second, tv_ratio_max = loop.at(0), spread_max = loop.at(1);
-    res.message = io::resumed_message(t, ctx.attempt);
+    rms = std::sqrt(sq / static_cast<double>(w.size()));
   }
-  auto save_checkpoint = [&] {
-    loop = {tv_ratio_max, spread_max};
-    carried = scheme.carried_state();
-    ck.save(steps, t);
-  };
-
-  while (t < t_end * (1.0 - 1e-12)) {
-    if (stop_if_cancelled(ctx, t, res, save_checkpoint))
-      return res;
-    const wcsph_tvf::StepInfo info = scheme.advance_towards(t, t_end);
-    ++steps;
-    const double ke = kinetic(), um = umax();
-    if (!std::isfinite(ke) || um > 10.0 * U) {
-      res.status = RunStatus::Diverged;
-      res.message = "max speed " + std::to_string(um) + " at t = " + std::to_string(t);
-      res.add("t_stop", t);
-      return res;
-    }
-    // The density summation of this step measured the configuration the step started from.
-    double spread = 0.0, rms = 0.0;
-    sumw_stats(scheme.sum_w(), spread, rms);
-    spread_max = std::max(spread_max, spread);
-    const double ratio = info.v_max > 0.0 ? info.tv_max / info.v_max : 0.0;
-    tv_ratio_max = std::max(tv_ratio_max, ratio);
-    s_t.push_back(t), s_ke.push_back(ke), s_ke_ex.push_back(ke0 * std::exp(2.0 * b * t));
-    s_um.push_back(um), s_um_ex.push_back(U * std::exp(b * t));
-    s_tv.push_back(info.tv_max), s_ratio.push_back(ratio), s_spread.push_back(spread);
-    if (ck.due(steps))
-      save_checkpoint();
-    ctx.report(t / t_end);
-  }
-  const double wall = std::chrono::duration<double>(clock::now() - t0).count();
-
-  // Least-squares slope of ln E_k against t.
-  double st = 0.0, sy = 0.0, stt = 0.0, sty = 0.0;
-  const double m = static_cast<double>(s_t.size());
-  for (std::size_t k = 0; k < s_t.size(); ++k) {
-    const double y = std::log(s_ke[k]);
-    st += s_t[k], sy += y, stt += s_t[k] * s_t[k], sty += s_t[k] * y;
-  }
-  const double rate = (m * sty - st * sy) / (m * stt - st * st);
-  const double rate_ex = 2.0 * b;
-
-  // Final distribution: one more density summation measures sum_j W_ij at t_end.
-  double spread_end = 0.0, rms_end = 0.0;
-  {
-    std::vector<double> sw(p.size());
-    scheme.number_density(sw);
-    sumw_stats(sw, spread_end, rms_end);
-    spread_max = std::max(spread_max, spread_end);
-  }
-  double l1 = 0.0, l1_ref = 0.0;
-  const double fac = U * std::exp(b * t);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double ve = tgv_velocity(p.r[i], fac).norm();
-    l1 += std::abs(p.v[i].norm() - ve), l1_ref += ve;
-  }
-
-  const double N = static_cast<double>(p.size());
-  const double ke_end = s_ke.back(), um_end = s_um.back();
-  res.add("ke_rate_rel_err", std::abs(rate - rate_ex) / std::abs(rate_ex));
-  res.add("ke_rel_err_end", std::abs(ke_end / (ke0 * std::exp(2.0 * b * t)) - 1.0));
-  res.add("umax_rel_err_end", std::abs(um_end / std::exp(b * t) - 1.0));
-  res.add("l1_vel_err_end", l1 / l1_ref);
-  res.add("tv_ratio_max", tv_ratio_max);
-  res.add("sumW_spread_end", spread_end);
-  res.add("sumW_rms_end", rms_end);
-  res.add("sumW_spread_max", spread_max);
-  res.add("ke_rate", rate);
-  res.add("ke_rate_exact", rate_ex);
-  res.add("ke_end", ke_end);
-  res.add("umax_end", um_end);
-  res.add("t_end", t);
-  res.add("advection_steps", static_cast<double>(steps));
-  res.add("acoustic_steps", static_cast<double>(scheme.acoustic_steps()));
-  res.add("wall_s", wall);
-  res.add("time_per_particle_step_s", wall / (N * static_cast<double>(scheme.acoustic_steps())));
-  res.add("time_per_particle_adv_step_s", wall / (N * static_cast<double>(steps)));
-  res.add("n_particles", N);
-
-  if (!ctx.output_dir.empty()) {
-    io::H5Writer w(ctx.output_dir / "taylor_green.h5");
-    w.attribute("tvf", get_string(prm, "tvf"));
-    w.attribute("n_side", static_cast<double>(n));
-    w.attribute("Re", Re);
-    w.write_columns(
-        "series",
-        {"t", "ke", "ke_exact", "umax", "umax_exact", "tv_max", "tv_ratio", "sumW_spread"},
-        {s_t, s_ke, s_ke_ex, s_um, s_um_ex, s_tv, s_ratio, s_spread});
-    io::write_fluid_fields(w, p); // every particle is fluid
-    w.close();
-  }
-  ck.discard(); // the results are final
-  return res;
-}
+};
 
 } // namespace
 
@@ -251,12 +259,15 @@ CaseInfo make_taylor_green_case() {
       {"seed", ParamType::Int, std::int64_t{1}, "random seed of the perturbation", 0.0, {}},
   };
   c.run = [](const Params& prm, const RunContext& ctx) {
-    omp_set_num_threads(std::max(1, ctx.threads));
-    return with_kernel<2>(get_string(prm, "kernel"), 1.0, [&](const auto& k) {
-      return run_tgv<std::decay_t<decltype(k)>>(prm, ctx);
-    });
+    TaylorGreen tg(prm);
+    tg.output_dir_ = ctx.output_dir;
+    return run_flow_case<2>(tg, prm, ctx, "wcsph_tvf");
   };
   return c;
 }
+
+namespace {
+const Registrar<CaseInfo> registered(make_taylor_green_case()); // core/registry.hpp
+} // namespace
 
 } // namespace sph

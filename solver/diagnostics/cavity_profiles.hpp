@@ -12,7 +12,8 @@
 // Points inside a solid (`in_solid`) take the solid's velocity 0.
 #pragma once
 
-#include "cases/case.hpp"
+#include "core/params.hpp"
+#include "core/run.hpp"
 #include "data/ghia1982.hpp"
 #include "diagnostics/profiles.hpp"
 

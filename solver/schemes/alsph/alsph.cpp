@@ -1,6 +1,6 @@
 // Scheme "alsph": augmented-Lagrangian SPH (seed 004, Kolukisa, Ozbulut & Yildiz 2021, section 2);
 // its parameters. The time integrator itself is schemes/alsph/alsph.hpp.
-#include "cases/case.hpp"
+#include "schemes/scheme.hpp"
 
 namespace sph {
 
@@ -26,5 +26,9 @@ SchemeInfo make_alsph_scheme() {
   };
   return s;
 }
+
+namespace {
+const Registrar<SchemeInfo> registered(make_alsph_scheme()); // core/registry.hpp
+} // namespace
 
 } // namespace sph

@@ -59,4 +59,8 @@ SchemeInfo make_contact_scheme() {
   return s;
 }
 
+namespace {
+const Registrar<SchemeInfo> registered(make_contact_scheme()); // core/registry.hpp
+} // namespace
+
 } // namespace sph

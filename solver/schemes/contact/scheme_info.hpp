@@ -1,8 +1,8 @@
 // Parameters of scheme "contact" (registry entry in scheme_info.cpp).
 #pragma once
 
-#include "cases/case.hpp"
 #include "schemes/contact/contact.hpp"
+#include "schemes/scheme.hpp"
 
 namespace sph {
 SchemeInfo make_contact_scheme();

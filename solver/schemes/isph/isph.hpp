@@ -45,7 +45,6 @@
 // LU of UMFPACK allocates its own factors).
 #pragma once
 
-#include "cases/case.hpp"
 #include "core/cell_list.hpp"
 #include "core/neighbor_list.hpp"
 #include "io/checkpoint.hpp"
@@ -54,6 +53,7 @@
 #include "operators/viscous_laplacian.hpp"
 #include "operators/wall_velocity.hpp"
 #include "schemes/isph/ppe_solver.hpp"
+#include "schemes/scheme.hpp"
 
 #include <algorithm>
 #include <chrono>

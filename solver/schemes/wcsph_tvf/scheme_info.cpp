@@ -1,60 +1,145 @@
 // Registry entry of scheme "wcsph_tvf" (seed 002, Wang, Haidn & Hu, transport-velocity
-// formulation with limiter; equations in ../shared/notes/tvf_equations.md and docs/tvf.md): its
-// parameters, shared by every case that runs it, and their translation into wcsph_tvf::Options.
+// formulation with limiter; equations in docs/tvf.md): its parameters, each stated once in a
+// ParamTable bound to the Options member it sets, and the FlowScheme<D> the time loop drives, which
+// wraps wcsph_tvf::Scheme<D, K> (K, the kernel, chosen once per job).
 #include "schemes/wcsph_tvf/scheme_info.hpp"
 
-#include <stdexcept>
+#include "core/kernels/kernel.hpp"
+#include "operators/wall_velocity.hpp"
 
 namespace sph {
 
 namespace wcsph_tvf {
 
+namespace {
+
+const ParamTable<Options>& table() {
+  static const ParamTable<Options> t =
+      ParamTable<Options>()
+          .choice("tvf", &Options::tvf,
+                  {{"none", Tvf::None},
+                   {"original", Tvf::Original},
+                   {"smoothing_length", Tvf::SmoothingLength},
+                   {"limited", Tvf::Limited}},
+                  "transport-velocity correction: none, original (Adami 2013 background pressure, "
+                  "kick-drift-kick), smoothing_length (eq. 14), limited (eqs. 15-16)")
+          .choice("riemann_dissipation", &Options::dissipation,
+                  {{"limited", Dissipation::Limited},
+                   {"full", Dissipation::Full},
+                   {"none", Dissipation::None}},
+                  "momentum dissipation of the Riemann solver in the 2nd half: limited (eq. 6), "
+                  "full (no limiter) or none (central)")
+          .choice(
+              "limiter_sign", &Options::sign,
+              {{"expansion", LimiterSign::Expansion}, {"compression", LimiterSign::Compression}},
+              "pairs the dissipation limiter acts on: expansion (SPHinXsys) or compression "
+              "(Zhang 2017)")
+          .boolean("kernel_correction", &Options::kernel_correction,
+                   "linear kernel-gradient correction B in the pressure force and the TVF residue")
+          .string("kernel", &Options::kernel, "smoothing kernel",
+                  {"wendland_c2", "cubic_spline", "quintic_spline"})
+          .real("h_over_dx", &Options::h_over_dx, "smoothing length h / particle spacing dx",
+                {0.5, 3.0})
+          .real("c0_factor", &Options::c0_factor, "artificial sound speed c0 = c0_factor U (eq. 2)",
+                {1.0, 1000.0})
+          .real("cfl_ad", &Options::cfl_ad, "advection CFL number (eq. 9)", {0.0, 1.0, true})
+          .real("cfl_ac", &Options::cfl_ac, "acoustic CFL number (eq. 11)", {0.0, 2.0, true})
+          .real("tvf_alpha", &Options::tvf_alpha,
+                "coefficient alpha of the TVF shift alpha h^2 g (eq. 14)", {0.0, 10.0})
+          .real("tvf_kappa", &Options::tvf_kappa,
+                "slope kappa of the TVF limiter min(kappa h^2 |g|^2, 1) (eq. 15)", {0.0, 1e6})
+          .real("pb_factor", &Options::pb_factor,
+                "tvf = original: background pressure p_b = pb_factor rho0 c0^2", {0.0, 100.0});
+  return t;
+}
+
+// The time loop's view of wcsph_tvf::Scheme<D, K>. Solid particles: Wall and Body particles are
+// the scheme's walls (a body is a wall moving with its prescribed velocity); with a prescribed
+// velocity field they start with that velocity.
+template <int D, class K>
+class Adapter final : public sph::FlowScheme<D> {
+public:
+  Adapter(const Options& o, const Flow<D>& flow)
+      : p_(*flow.p), v_wall_(flow.v_wall), o_(o), f_(prepare(flow)), s_(p_, f_, flow.box, o_) {}
+
+  void init() override { s_.init(); }
+  void resume() override {
+    s_.init();
+  } // the cell sort of the saved (cell-ordered) state is the identity
+
+  StepStats advance(double& t, double t_end) override {
+    const StepInfo i = s_.advance_towards(t, t_end);
+    return {i.Dt, i.substeps, i.v_max, i.tv_max};
+  }
+  double stable_dt() const override { return s_.advection_dt(); }
+
+  void wall_velocities_for_output() override {
+    if (v_wall_ < 0)
+      return;
+    WallVelocity<D> wv{p_.kind, p_.vector(v_wall_), p_.v};
+    interact(s_.neighbors(), wv, [&](std::size_t i) { return p_.kind[i] == Kind::Wall; });
+  }
+  const NeighborList<D>& neighbors() const override { return s_.neighbors(); }
+  const std::string& kernel_name() const override { return o_.kernel; }
+  double h() const override { return o_.h; }
+  Vec<D> force_on_walls(Vec<D>* viscous) override { return s_.force_on_walls(viscous); }
+
+  std::vector<std::string> state_names() const override { return {"wcsph_tvf/carried"}; }
+  void save_state(StateArrays& out) const override {
+    out["wcsph_tvf/carried"] = s_.carried_state();
+  }
+  void load_state(const StateArrays& in) override {
+    s_.restore_carried_state(in.at("wcsph_tvf/carried"));
+  }
+  void add_metrics(RunResult& res, double) const override {
+    res.add("acoustic_steps", static_cast<double>(s_.acoustic_steps()));
+  }
+  long work_steps() const override { return s_.acoustic_steps(); }
+
+  wcsph_tvf::Scheme<D, K>& core() { return s_; }
+
+private:
+  Particles<D>& p_;
+  int v_wall_;
+  Options o_;
+  Fields f_;
+  wcsph_tvf::Scheme<D, K> s_;
+
+  static Fields prepare(const Flow<D>& flow) {
+    Particles<D>& p = *flow.p;
+    for (auto& k : p.kind)
+      if (k == Kind::Body)
+        k = Kind::Wall;
+    if (flow.v_wall >= 0)
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (p.kind[i] == Kind::Wall)
+          p.v[i] = p.vector(flow.v_wall)[i];
+    return Fields::add_to(p, flow.v_wall);
+  }
+};
+
+template <int D>
+std::unique_ptr<sph::FlowScheme<D>> make(const Params& prm, const Flow<D>& flow) {
+  const Options o = options_for_flow(prm, flow.rho0, flow.U, flow.L, flow.Re, flow.dx);
+  return with_kernel<D>(o.kernel, o.h, [&](const auto& k) -> std::unique_ptr<sph::FlowScheme<D>> {
+    return std::make_unique<Adapter<D, std::decay_t<decltype(k)>>>(o, flow);
+  });
+}
+
+} // namespace
+
 Options options_from(const Params& prm) {
-  Options o;
-  const std::string& t = get_string(prm, "tvf");
-  if (t == "none")
-    o.tvf = Tvf::None;
-  else if (t == "original")
-    o.tvf = Tvf::Original;
-  else if (t == "smoothing_length")
-    o.tvf = Tvf::SmoothingLength;
-  else if (t == "limited")
-    o.tvf = Tvf::Limited;
-  else
-    throw std::invalid_argument("wcsph_tvf: unknown tvf '" + t + "'");
-  const std::string& d = get_string(prm, "riemann_dissipation");
-  if (d == "limited")
-    o.dissipation = Dissipation::Limited;
-  else if (d == "full")
-    o.dissipation = Dissipation::Full;
-  else if (d == "none")
-    o.dissipation = Dissipation::None;
-  else
-    throw std::invalid_argument("wcsph_tvf: unknown riemann_dissipation '" + d + "'");
-  const std::string& s = get_string(prm, "limiter_sign");
-  if (s == "expansion")
-    o.sign = LimiterSign::Expansion;
-  else if (s == "compression")
-    o.sign = LimiterSign::Compression;
-  else
-    throw std::invalid_argument("wcsph_tvf: unknown limiter_sign '" + s + "'");
-  o.kernel_correction = get_bool(prm, "kernel_correction");
-  o.cfl_ad = get_real(prm, "cfl_ad");
-  o.cfl_ac = get_real(prm, "cfl_ac");
-  o.tvf_alpha = get_real(prm, "tvf_alpha");
-  o.tvf_kappa = get_real(prm, "tvf_kappa");
-  o.pb_factor = get_real(prm, "pb_factor");
-  return o;
+  return table().apply(prm);
 }
 
 Options options_for_flow(const Params& prm, double rho0, double U, double L, double Re, double dx) {
   Options o = options_from(prm);
   o.rho0 = rho0;
   o.U_ref = U;
-  o.c0 = get_real(prm, "c0_factor") * U;
+  o.c0 = o.c0_factor * U;
   o.mu = rho0 * U * L / Re;
   o.dx = dx;
-  o.h = get_real(prm, "h_over_dx") * dx;
+  o.h = o.h_over_dx * dx;
   return o;
 }
 
@@ -65,58 +150,14 @@ SchemeInfo make_wcsph_tvf_scheme() {
   s.name = "wcsph_tvf";
   s.description = "Riemann WCSPH, dual-criteria time stepping and transport-velocity correction "
                   "with limiter (Wang, Haidn & Hu, arXiv:2411.13992, seed 002)";
-  s.params = {
-      {"tvf",
-       ParamType::String,
-       std::string("limited"),
-       "transport-velocity correction: none, original (Adami 2013 background pressure, "
-       "kick-drift-kick), smoothing_length (eq. 14), limited (eqs. 15-16)",
-       {},
-       {},
-       false,
-       {"none", "original", "smoothing_length", "limited"}},
-      {"riemann_dissipation",
-       ParamType::String,
-       std::string("limited"),
-       "momentum dissipation of the Riemann solver in the 2nd half: limited (eq. 6), full (no "
-       "limiter) or none (central)",
-       {},
-       {},
-       false,
-       {"limited", "full", "none"}},
-      {"limiter_sign",
-       ParamType::String,
-       std::string("expansion"),
-       "pairs the dissipation limiter acts on: expansion (SPHinXsys) or compression (Zhang 2017)",
-       {},
-       {},
-       false,
-       {"expansion", "compression"}},
-      {"kernel_correction", ParamType::Bool, false,
-       "linear kernel-gradient correction B in the pressure force and the TVF residue"},
-      {"kernel",
-       ParamType::String,
-       std::string("wendland_c2"),
-       "smoothing kernel",
-       {},
-       {},
-       false,
-       {"wendland_c2", "cubic_spline", "quintic_spline"}},
-      {"h_over_dx", ParamType::Real, 1.3, "smoothing length h / particle spacing dx", 0.5, 3.0},
-      {"c0_factor", ParamType::Real, 10.0, "artificial sound speed c0 = c0_factor U (eq. 2)", 1.0,
-       1000.0},
-      {"cfl_ad", ParamType::Real, 0.25, "advection CFL number (eq. 9)", 0.0, 1.0, true},
-      {"cfl_ac", ParamType::Real, 0.6, "acoustic CFL number (eq. 11)", 0.0, 2.0, true},
-      {"tvf_alpha", ParamType::Real, 0.2, "coefficient alpha of the TVF shift alpha h^2 g (eq. 14)",
-       0.0, 10.0},
-      {"tvf_kappa", ParamType::Real, 100.0,
-       "slope kappa of the TVF limiter min(kappa h^2 |g|^2, 1) "
-       "(eq. 15)",
-       0.0, 1e6},
-      {"pb_factor", ParamType::Real, 1.0,
-       "tvf = original: background pressure p_b = pb_factor rho0 c0^2", 0.0, 100.0},
-  };
+  s.params = wcsph_tvf::table().specs();
+  s.make2 = &wcsph_tvf::make<2>;
+  s.make3 = &wcsph_tvf::make<3>;
   return s;
 }
+
+namespace {
+const Registrar<SchemeInfo> registered(make_wcsph_tvf_scheme()); // core/registry.hpp
+} // namespace
 
 } // namespace sph

@@ -1,7 +1,7 @@
 // Parameters of scheme "wcsph_tvf" (registry entry in scheme_info.cpp).
 #pragma once
 
-#include "cases/case.hpp"
+#include "schemes/scheme.hpp"
 #include "schemes/wcsph_tvf/wcsph_tvf.hpp"
 
 namespace sph {

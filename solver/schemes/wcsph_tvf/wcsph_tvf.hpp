@@ -103,6 +103,10 @@ struct Options {
   double tvf_kappa = 100.0;  // slope of the limiter, eq. (15)
   double pb_factor = 1.0;    // original TVF: p_b = pb_factor rho0 c0^2
   double viscous_eps = 0.01; // r_ij + eps h in the viscous force
+  // Set by a flow from its scales (options_for_flow): h = h_over_dx dx, c0 = c0_factor U_ref.
+  std::string kernel = "wendland_c2";
+  double h_over_dx = 1.3;
+  double c0_factor = 10.0;
 };
 
 // Per-particle fields that must follow the particles through the cell sort.

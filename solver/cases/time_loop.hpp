@@ -1,0 +1,189 @@
+// The one time loop of the solver, and the shape of a case that uses it (FlowCase).
+//
+//   case (geometry, boundary hooks, probes, metrics)
+//     -> run_flow_case: builds the particles, makes the job's scheme (schemes/scheme.hpp),
+//        then  while (!scheme.finished(t, t_end)):
+//                cancelled?  -> save a checkpoint, return Cancelled
+//                case.before_step        (boundary hooks: inflow/outflow, ghosts, sponges, ...)
+//                scheme.advance(t, t_end)  (a failed step -> Diverged)
+//                fluid speed bound        (not finite or above case.speed_bound() -> Diverged)
+//                case.after_step         (probes, series, steady state -> may end the run)
+//                checkpoint when due (every N steps / M s), progress
+//        case.finish (final metrics and outputs), scheme.add_metrics, the loop's cost metrics.
+//
+// Checkpoints are named arrays (key -> array): every particle field ("p/..."), the loop's state
+// ("loop/costs"), the case's (case.state_names()) and the scheme's (scheme.state_names()). A
+// resumed job rebuilds the initial configuration (so reference densities are the same), restores
+// the particles and the named state, and continues bit for bit.
+//
+// Cost metrics of every run: steps, wall_time_s, time_per_step_s (wall per step),
+// cpu_time_per_step_s (process CPU time of the loop per step: the honest cost on a shared
+// machine), time_per_particle_step_s (wall per particle and elementary step of the scheme:
+// acoustic sub-steps of wcsph_tvf, steps of isph), n_particles (at the end).
+#pragma once
+
+#include "cases/case.hpp"
+#include "io/checkpoint.hpp"
+#include "io/particle_checkpoint.hpp"
+#include "schemes/scheme.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <memory>
+#include <omp.h>
+#include <stdexcept>
+#include <string>
+
+namespace sph {
+
+// Where the loop stands, for a case's hooks.
+struct LoopState {
+  double t = 0.0;
+  long steps = 0;
+  double t_end = 0.0;
+};
+
+template <int D>
+class FlowCase {
+public:
+  virtual ~FlowCase() = default;
+
+  // Geometry: fills the empty particle set p and returns the flow's scales and walls (flow.p is
+  // set by the loop).
+  virtual Flow<D> build(Particles<D>& p) = 0;
+  // After the scheme's init() on the initial configuration (initial samples, reference values).
+  virtual void start(FlowScheme<D>&) {}
+  virtual double t_end() const = 0;
+  // Diverged when a fluid speed exceeds this (or is not finite).
+  virtual double speed_bound() const = 0;
+
+  // Boundary hooks before each step.
+  virtual void before_step(FlowScheme<D>&, const LoopState&) {}
+  // Probes after each step; true ends the run (e.g. a steady state).
+  virtual bool after_step(FlowScheme<D>&, const LoopState&, const StepStats&) { return false; }
+  // Final metrics and outputs (the loop adds the scheme's metrics and the costs after these).
+  virtual void finish(FlowScheme<D>&, const LoopState&, RunResult&) = 0;
+  // A note for the job's message ("steady at t = ..."), empty for none.
+  virtual std::string summary(const LoopState&) const { return {}; }
+
+  // Named state carried between steps (checkpoints).
+  virtual std::vector<std::string> state_names() const { return {}; }
+  virtual void save_state(StateArrays&) const {}
+  virtual void load_state(const StateArrays&) {}
+};
+
+// Runs a flow case with the job's scheme (parameter "scheme", else the case's default scheme)
+// through the shared loop.
+template <int D>
+RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx,
+                        const std::string& default_scheme) {
+  using clock = std::chrono::steady_clock;
+  omp_set_num_threads(std::max(1, ctx.threads));
+  const auto t_start = clock::now();
+
+  Particles<D> p;
+  Flow<D> flow = c.build(p);
+  flow.p = &p;
+  std::unique_ptr<FlowScheme<D>> s = make_scheme<D>(prm, flow, default_scheme);
+  s->init();
+  c.start(*s);
+
+  RunResult res;
+  LoopState at;
+  at.t_end = c.t_end();
+  double cpu_before = 0.0, wall_before = 0.0; // spent by earlier attempts
+  std::string resumed;
+
+  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
+  {
+    std::vector<std::string> names = io::particle_array_names(p);
+    names.push_back("loop/costs");
+    for (auto& n : c.state_names())
+      names.push_back(n);
+    for (auto& n : s->state_names())
+      names.push_back(n);
+    if (auto st = ck.load(names)) {
+      io::restore_particle_arrays(p, st->arrays);
+      const auto& costs = st->arrays.at("loop/costs");
+      io::expect_state_size(costs, 2, "checkpoint array loop/costs");
+      cpu_before = costs[0], wall_before = costs[1];
+      c.load_state(st->arrays);
+      s->load_state(st->arrays);
+      s->resume();
+      at.steps = static_cast<long>(st->step), at.t = st->time;
+      resumed = io::resumed_message(at.t, ctx.attempt);
+    }
+  }
+  const std::clock_t cpu0 = std::clock();
+  auto cpu_so_far = [&] {
+    return cpu_before + static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+  };
+  auto wall_so_far = [&] {
+    return wall_before + std::chrono::duration<double>(clock::now() - t_start).count();
+  };
+  auto save = [&] {
+    if (!ck.enabled())
+      return;
+    io::CheckpointState st{at.steps, at.t, {}};
+    io::add_particle_arrays(p, st.arrays);
+    st.arrays["loop/costs"] = {cpu_so_far(), wall_so_far()};
+    c.save_state(st.arrays);
+    s->save_state(st.arrays);
+    ck.save(st);
+  };
+  auto diverged = [&](const std::string& why) {
+    res.status = RunStatus::Diverged;
+    res.message = why + " at t = " + std::to_string(at.t);
+    res.add("t_stop", at.t);
+    return res;
+  };
+
+  const double bound = c.speed_bound();
+  while (!s->finished(at.t, at.t_end)) {
+    if (stop_if_cancelled(ctx, at.t, res, save))
+      return res;
+    c.before_step(*s, at);
+    StepStats st;
+    try {
+      st = s->advance(at.t, at.t_end);
+    } catch (const std::runtime_error& e) { // e.g. a failed PPE solve: the state is broken
+      return diverged(e.what());
+    }
+    ++at.steps;
+    double vmax = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == Kind::Fluid) {
+        const double v2 = p.v[i].squaredNorm();
+        vmax = std::max(vmax, std::isfinite(v2) ? std::sqrt(v2) : 1e300);
+      }
+    if (!(vmax <= bound))
+      return diverged("velocity " + std::to_string(vmax));
+    const bool stop = c.after_step(*s, at, st);
+    if (stop)
+      break;
+    if (ck.due(at.steps))
+      save();
+    ctx.report(at.t / at.t_end);
+  }
+  const double cpu = cpu_so_far(), wall = wall_so_far();
+
+  c.finish(*s, at, res);
+  s->add_metrics(res, wall);
+  const double N = static_cast<double>(p.size()), steps = static_cast<double>(at.steps);
+  res.add("steps", steps);
+  res.add("wall_time_s", wall);
+  res.add("time_per_step_s", wall / steps);
+  res.add("cpu_time_per_step_s", cpu / steps);
+  res.add("time_per_particle_step_s", wall / (N * static_cast<double>(s->work_steps())));
+  res.add("n_particles", N);
+  std::string m = c.summary(at);
+  if (!resumed.empty())
+    m = m.empty() ? resumed : m + "; " + resumed;
+  res.message = m;
+  ck.discard(); // the results are final
+  return res;
+}
+
+} // namespace sph

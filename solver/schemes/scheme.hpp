@@ -1,0 +1,147 @@
+// The interface every time-integration scheme offers the shared time loop (cases/time_loop.hpp),
+// and its registry entry.
+//
+// A scheme family (isph, wcsph_tvf, ...) keeps its numerics in a class template on dimension,
+// kernel and its variants (the policy types chosen once per job, so that pair loops carry no
+// option branches); FlowScheme<D> is the boundary the time loop and the cases see, one virtual call
+// per step. Its registry entry (SchemeInfo) states the scheme's parameters once (a ParamTable)
+// and creates the scheme for a flow from a job's parameters:
+//
+//   case  --Flow<D>-->  SchemeInfo::make<D>(params, flow)  -->  FlowScheme<D>
+//   time loop: while (!s.finished(t, t_end)) { case hooks; s.advance(t, t_end); probes; ... }
+//
+// A scheme sees the particles through Flow: fluid particles are integrated; Wall and Body
+// particles are solid (not integrated; their prescribed velocity, when the case gives one, is the
+// vector field flow.v_wall). Adding a scheme: one folder schemes/<name>/ whose .cpp registers a
+// SchemeInfo beside its class (core/registry.hpp).
+#pragma once
+
+#include "core/domain.hpp"
+#include "core/neighbor_list.hpp"
+#include "core/params.hpp"
+#include "core/particles.hpp"
+#include "core/registry.hpp"
+#include "core/run.hpp"
+
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sph {
+
+// Named arrays of doubles: a checkpoint's content (io/checkpoint.hpp), key -> array.
+using StateArrays = std::map<std::string, std::vector<double>>;
+
+// What a case hands a scheme: the particles and the flow's reference scales.
+template <int D>
+struct Flow {
+  Particles<D>* p = nullptr;
+  Domain<D> box;     // periodic axes; a non-periodic box is not a bound (the cells follow)
+  double rho0 = 1.0; // reference density
+  double U = 1.0;    // reference speed (sound speed, time-step criteria)
+  double L = 1.0;    // reference length (nu = U L / Re)
+  double Re = 100.0; // Reynolds number U L / nu
+  double dx = 0.01;  // initial particle spacing
+  double dt = 0.0;   // a fixed time step the case asks for (schemes with fixed steps: isph)
+  int v_wall = -1;   // vector field: prescribed velocity of the solid particles (-1: at rest)
+  double nu() const { return U * L / Re; }
+};
+
+// What one step did.
+struct StepStats {
+  double dt = 0.0;     // the step taken
+  int substeps = 0;    // acoustic sub-steps (wcsph), inner iterations (alsph), ...
+  double v_max = 0.0;  // largest fluid speed at the start of the step
+  double tv_max = 0.0; // transport-velocity magnitude of the step (wcsph_tvf), else 0
+};
+
+template <int D>
+class FlowScheme {
+public:
+  virtual ~FlowScheme() = default;
+
+  // Set-up on the flow's particles (neighbour search, reference density): once, before the
+  // first step, on the initial configuration.
+  virtual void init() = 0;
+  // After the particles were restored from a checkpoint (and load_state): whatever must be
+  // rebuilt on the restored positions.
+  virtual void resume() {}
+
+  // One step from t towards t_end; advances t. Throws std::runtime_error when the step cannot be
+  // made (a failed linear solve): the time loop records the job as diverged.
+  virtual StepStats advance(double& t, double t_end) = 0;
+  // True when the scheme's steps have reached t_end.
+  virtual bool finished(double t, double t_end) const { return t >= t_end * (1.0 - 1e-12); }
+  // The stable step the scheme would take now.
+  virtual double stable_dt() const = 0;
+  // Ask for (or not) the scheme's costly diagnostics in the next step (ISPH: the divergence of
+  // the new velocity); a scheme without such diagnostics ignores it.
+  virtual void measure_next_step(bool) {}
+
+  // Prescribed velocities of the solid particles replaced by what the fluid sees at the wall
+  // (the no-slip mirror velocity), for profiles and fields drawn to the wall.
+  virtual void wall_velocities_for_output() = 0;
+  // Neighbour list of the current positions (between steps).
+  virtual const NeighborList<D>& neighbors() const = 0;
+  // The kernel's name and smoothing length (for diagnostics that interpolate with it).
+  virtual const std::string& kernel_name() const = 0;
+  virtual double h() const = 0;
+  // The force of the fluid on the solid particles; `viscous`: its viscous part.
+  virtual Vec<D> force_on_walls(Vec<D>* viscous = nullptr) {
+    (void)viscous;
+    throw std::logic_error("this scheme does not compute wall forces");
+  }
+
+  // Named state carried from one step to the next besides the particle fields (checkpoints).
+  virtual std::vector<std::string> state_names() const = 0;
+  virtual void save_state(StateArrays& out) const = 0;
+  virtual void load_state(const StateArrays& in) = 0;
+
+  // Named diagnostics of the last step for a case's series (ISPH: div_max, ppe_iters).
+  virtual std::vector<std::pair<std::string, double>> probes() const { return {}; }
+
+  // The scheme's own metrics (counters, solver statistics, cost), added at the end of a run.
+  virtual void add_metrics(RunResult& res, double wall_s) const = 0;
+  // Elementary steps for the cost per particle-step (acoustic sub-steps, or steps).
+  virtual long work_steps() const = 0;
+};
+
+// A scheme's registry entry: its parameters and how it is made for a 2D or 3D flow.
+struct SchemeInfo {
+  std::string name;
+  std::string description; // one line, with the paper
+  std::vector<ParamSpec> params;
+  std::unique_ptr<FlowScheme<2>> (*make2)(const Params&, const Flow<2>&) = nullptr;
+  std::unique_ptr<FlowScheme<3>> (*make3)(const Params&, const Flow<3>&) = nullptr;
+};
+
+// All registered schemes (by name), and look-up by name (nullptr if unknown).
+inline const std::vector<SchemeInfo>& scheme_registry() {
+  return Registry<SchemeInfo>::entries();
+}
+inline const SchemeInfo* find_scheme(const std::string& name) {
+  return Registry<SchemeInfo>::find(name);
+}
+
+// The scheme a job names (parameter "scheme"; `fallback` when it names none), made for flow.
+template <int D>
+std::unique_ptr<FlowScheme<D>> make_scheme(const Params& prm, const Flow<D>& flow,
+                                           const std::string& fallback) {
+  const std::string name = prm.count("scheme") ? get_string(prm, "scheme") : fallback;
+  const SchemeInfo* s = find_scheme(name);
+  if (!s)
+    throw std::invalid_argument("unknown scheme '" + name + "'");
+  auto make = [&] {
+    if constexpr (D == 2)
+      return s->make2;
+    else
+      return s->make3;
+  }();
+  if (!make)
+    throw std::invalid_argument("scheme '" + name + "' does not run in " + std::to_string(D) + "D");
+  return make(prm, flow);
+}
+
+} // namespace sph
