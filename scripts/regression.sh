@@ -11,7 +11,8 @@
 # (exit 0; rows of metrics added since are listed, not failed); a changed or missing row is
 # printed and fails (exit 1). The baselines are tests/regression/baseline_quick.csv
 # and baseline_long.csv, captured on the code before the scheme-interface redesign (issue 14).
-# Needs a Release build in build/ (scripts/build.sh).
+# Needs a Release build in build/ (scripts/build.sh). STUDIES="a b" limits the quick tiers to
+# those studies (compare then checks only their baseline rows).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 RUNNER="${RUNNER:-$ROOT/build/runner}"
@@ -30,6 +31,9 @@ if [[ "$long" == --long ]]; then
 else
   studies=()
   for s in "$ROOT"/studies/*.toml; do
+    if [[ -n "${STUDIES:-}" ]] && ! [[ " $STUDIES " == *" $(basename "$s" .toml) "* ]]; then
+      continue
+    fi
     grep -q '^\[tiers\.quick\]' "$s" && studies+=("$s")
   done
   tier=(--tier quick)
@@ -55,7 +59,7 @@ if [[ "$mode" == capture ]]; then
 else
   # Every baseline row must come back with the same value; rows of metrics the baseline does not
   # have (a metric added since) are listed but do not fail.
-  awk -F, 'NR == FNR { if (FNR > 1) base[$1 FS $2 FS $3 FS $4] = $5; next }
+  awk -F, -v only=" ${STUDIES:-} " 'NR == FNR { if (FNR > 1 && (only == "  " || index(only, " " $1 " "))) base[$1 FS $2 FS $3 FS $4] = $5; next }
            FNR > 1 { k = $1 FS $2 FS $3 FS $4; if (k in base) { if (base[k] != $5) print "changed: " k ": " base[k] " -> " $5; delete base[k] } else print "added: " $0 }
            END { for (k in base) print "missing: " k "," base[k] }' "$file" "$TMP/now.csv" | sort >"$TMP/diff.txt"
   rows=$(($(wc -l <"$file") - 1))
