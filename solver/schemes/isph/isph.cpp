@@ -46,8 +46,8 @@ SchemeInfo make_isph_scheme() {
       {"ppe_solver",
        ParamType::String,
        std::string("bicgstab_ilu0"),
-       "PPE linear solver: umfpack (sparse LU), or bicgstab (warm-started) with ilut, ilu0 or "
-       "jacobi",
+       "PPE linear solver: umfpack (sparse LU), or bicgstab (warm-started) with ilut, ilu0, "
+       "jacobi or amg (HYPRE BoomerAMG), or gmres_amg",
        {},
        {},
        false,
