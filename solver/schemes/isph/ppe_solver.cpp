@@ -359,6 +359,10 @@ int PpeSolver::gmres(Impl& s, const std::vector<double>& x0, int n) {
   return iters;
 }
 
+std::vector<double> PpeSolver::last_rhs() const {
+  return std::vector<double>(impl_->b.data(), impl_->b.data() + impl_->b.size());
+}
+
 int PpeSolver::amg_levels() const {
   return impl_->amg ? impl_->amg->levels() : 0;
 }

@@ -92,6 +92,7 @@ public:
             const std::vector<std::int64_t>* ids = nullptr);
 
   double last_error() const { return last_error_; } // relative residual of the last solve
+  std::vector<double> last_rhs() const;             // b of the last solve (for tests)
 
   // AMG only: a new hierarchy every k solves (1: every solve); the default is the measured best
   // (docs/isph.md).
