@@ -13,7 +13,7 @@
 // Usage: ppe_bench [--dx 0.02,0.01,...] [--warm 20] [--steps 5] [--rounds 2] [--threads 1]
 //                  [--variants bicgstab_ilu0,bicgstab_amg:1,bicgstab_amg:5,gmres_amg:1]
 //                  [--tol 1e-6] [--coarsen 10] [--interp 6] [--strong 0.25] [--agg 0]
-//                  [--relax 6] [--pmax 4] [--sweeps 1]
+//                  [--relax 6] [--pmax 4] [--sweeps 1] [--verbose]
 // A variant is solver[:k], k the AMG set-up interval (a new hierarchy every k solves).
 #include "cases/cavity.hpp"
 #include "core/kernels/cubic_spline.hpp"
@@ -63,6 +63,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   std::vector<double> dxs{0.02, 0.01, 0.005, 0.0025};
   int warm = 20, steps = 5, rounds = 2, threads = 1;
+  bool verbose = false;
   double tol = 1e-6;
   std::vector<std::string> vnames{"bicgstab_ilu0", "bicgstab_amg:1", "bicgstab_amg:5",
                                   "gmres_amg:1"};
@@ -88,6 +89,8 @@ int main(int argc, char** argv) {
       rounds = std::stoi(next());
     else if (k == "--threads")
       threads = std::stoi(next());
+    else if (k == "--verbose")
+      verbose = true;
     else if (k == "--tol")
       tol = std::stod(next());
     else if (k == "--variants")
@@ -159,8 +162,12 @@ int main(int argc, char** argv) {
         o.solver = vars[v].kind;
         amg_tuning().setup_every = vars[v].every;
         Isph<2, CubicSpline<2>> s(p, Domain<2>{}, W, o, vw, nu, dt, dx);
-        for (int k = 0; k < steps; ++k)
+        for (int k = 0; k < steps; ++k) {
           s.step();
+          if (verbose)
+            std::printf("#   step %d: %d iterations, residual %.2e, setups %ld\n", k,
+                        s.last_iterations(), s.ppe_residual(), s.ppe().setups());
+        }
         Sample x;
         x.iters = static_cast<double>(s.iterations_total()) / steps;
         x.setups = static_cast<double>(s.ppe().setups());

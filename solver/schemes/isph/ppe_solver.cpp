@@ -330,9 +330,10 @@ int PpeSolver::gmres(Impl& s, const std::vector<double>& x0, int n) {
         s.h(i, j) = s.w.dot(s.v[i]);
         s.w -= s.h(i, j) * s.v[i];
       }
-      s.h(j + 1, j) = s.w.norm();
-      if (s.h(j + 1, j) > 0.0)
-        s.v[j + 1] = s.w / s.h(j + 1, j);
+      const double hnext = s.w.norm();
+      s.h(j + 1, j) = hnext;
+      if (hnext > 0.0)
+        s.v[j + 1] = s.w / hnext;
       for (int i = 0; i < j; ++i) { // previous rotations on the new column
         const double t = s.cs[i] * s.h(i, j) + s.sn[i] * s.h(i + 1, j);
         s.h(i + 1, j) = -s.sn[i] * s.h(i, j) + s.cs[i] * s.h(i + 1, j);
@@ -345,7 +346,7 @@ int PpeSolver::gmres(Impl& s, const std::vector<double>& x0, int n) {
       s.h(j, j) = den, s.h(j + 1, j) = 0.0;
       s.g[j + 1] = -s.sn[j] * s.g[j], s.g[j] *= s.cs[j];
       ++iters, k = j + 1;
-      if (std::abs(s.g[j + 1]) <= tol_ * bnorm || s.h(j + 1, j) == 0.0)
+      if (std::abs(s.g[j + 1]) <= tol_ * bnorm || hnext == 0.0) // converged, or exact
         break;
     }
     // x += Z y, H(0:k, 0:k) y = g(0:k) (upper triangular after the rotations).
