@@ -8,7 +8,10 @@
 // from a copy of the same state. The PPE system of every step is the real one (assembled by
 // Isph::assemble on the current configuration). Printed per variant and round: PPE iterations per
 // solve, AMG set-up time per step (inside the solve time), solve time per step (set-up included),
-// and the whole ISPH step; then the medians over rounds and the ratios to the first variant.
+// and the whole ISPH step, each as wall time and as CPU time (the process's own: on this shared
+// machine wall times vary 2x with the other users' load); then the medians over rounds and the
+// ratios first variant / variant (solve_r, step_r: wall; solvc_r, stepc_r: CPU). Run it with one
+// thread for the CPU ratios to mean what the wall ratios would on an idle machine.
 //
 // Usage: ppe_bench [--dx 0.02,0.01,...] [--warm 20] [--steps 5] [--rounds 2] [--threads 1]
 //                  [--variants bicgstab_ilu0,bicgstab_amg:1,bicgstab_amg:5,gmres_amg:1]
@@ -23,6 +26,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <omp.h>
 #include <sstream>
 #include <string>
@@ -50,7 +54,14 @@ struct Variant {
 
 struct Sample {
   double iters = 0, setup_s = 0, solve_s = 0, step_s = 0, setups = 0;
+  double setup_cpu = 0, solve_cpu = 0, step_cpu = 0; // process / thread CPU time
 };
+
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -133,8 +144,10 @@ int main(int argc, char** argv) {
               "sweeps %d\n",
               as.coarsen_type, as.interp_type, as.strong_threshold, as.agg_num_levels,
               as.relax_type, as.p_max_elmts, as.num_sweeps);
-  std::printf("%-8s %-16s %5s %8s %8s %10s %10s %10s %7s %6s\n", "N", "variant", "round",
-              "it/solve", "setups", "setup_ms", "solve_ms", "step_ms", "levels", "opcx");
+  std::printf("# per step (one solve per step), wall ms and CPU ms; solve includes setup\n");
+  std::printf("%-8s %-16s %5s %8s %6s %9s %9s %9s %9s %9s %9s %6s %5s\n", "N", "variant", "round",
+              "it/solve", "setups", "setup", "solve", "step", "setup_cpu", "solve_cpu", "step_cpu",
+              "levels", "opcx");
   std::fflush(stdout);
 
   for (double dx : dxs) {
@@ -162,8 +175,11 @@ int main(int argc, char** argv) {
         o.solver = vars[v].kind;
         amg_tuning().setup_every = vars[v].every;
         Isph<2, CubicSpline<2>> s(p, Domain<2>{}, W, o, vw, nu, dt, dx);
+        double cpu = 0.0;
         for (int k = 0; k < steps; ++k) {
+          const double c0 = process_cpu_seconds();
           s.step();
+          cpu += process_cpu_seconds() - c0;
           if (verbose)
             std::printf("#   step %d: %d iterations, residual %.2e, setups %ld\n", k,
                         s.last_iterations(), s.ppe_residual(), s.ppe().setups());
@@ -174,10 +190,14 @@ int main(int argc, char** argv) {
         x.setup_s = s.ppe().setup_seconds() / steps;
         x.solve_s = s.time_solve() / steps;
         x.step_s = s.time_step() / steps;
+        x.setup_cpu = s.ppe().setup_cpu_seconds() / steps;
+        x.solve_cpu = s.ppe().cpu_seconds() / steps;
+        x.step_cpu = cpu / steps;
         res[v].push_back(x);
-        std::printf("%-8zu %-16s %5d %8.2f %8.0f %10.2f %10.2f %10.2f %7d %6.2f\n", N,
-                    vars[v].name.c_str(), r, x.iters, x.setups, 1e3 * x.setup_s, 1e3 * x.solve_s,
-                    1e3 * x.step_s, s.ppe().amg_levels(), s.ppe().amg_operator_complexity());
+        std::printf("%-8zu %-16s %5d %8.2f %6.0f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %6d %5.2f\n",
+                    N, vars[v].name.c_str(), r, x.iters, x.setups, 1e3 * x.setup_s, 1e3 * x.solve_s,
+                    1e3 * x.step_s, 1e3 * x.setup_cpu, 1e3 * x.solve_cpu, 1e3 * x.step_cpu,
+                    s.ppe().amg_levels(), s.ppe().amg_operator_complexity());
         std::fflush(stdout);
       }
     }
@@ -188,14 +208,19 @@ int main(int argc, char** argv) {
       return median(a);
     };
     std::printf("# N = %zu, medians over rounds; ratio = %s / variant\n", N, vars[0].name.c_str());
-    std::printf("# %-16s %8s %10s %10s %10s %12s %12s\n", "variant", "it/solve", "setup_ms",
-                "solve_ms", "step_ms", "solve_ratio", "step_ratio");
+    std::printf("# %-16s %8s %9s %9s %9s %9s %9s %9s %7s %7s %7s %7s\n", "variant", "it/solve",
+                "setup", "solve", "step", "setup_cpu", "solve_cpu", "step_cpu", "solve_r", "step_r",
+                "solvc_r", "stepc_r");
     for (std::size_t v = 0; v < vars.size(); ++v)
-      std::printf("# %-16s %8.2f %10.2f %10.2f %10.2f %12.2f %12.2f\n", vars[v].name.c_str(),
-                  med(v, &Sample::iters), 1e3 * med(v, &Sample::setup_s),
+      std::printf("# %-16s %8.2f %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f %7.2f %7.2f %7.2f %7.2f\n",
+                  vars[v].name.c_str(), med(v, &Sample::iters), 1e3 * med(v, &Sample::setup_s),
                   1e3 * med(v, &Sample::solve_s), 1e3 * med(v, &Sample::step_s),
+                  1e3 * med(v, &Sample::setup_cpu), 1e3 * med(v, &Sample::solve_cpu),
+                  1e3 * med(v, &Sample::step_cpu),
                   med(0, &Sample::solve_s) / med(v, &Sample::solve_s),
-                  med(0, &Sample::step_s) / med(v, &Sample::step_s));
+                  med(0, &Sample::step_s) / med(v, &Sample::step_s),
+                  med(0, &Sample::solve_cpu) / med(v, &Sample::solve_cpu),
+                  med(0, &Sample::step_cpu) / med(v, &Sample::step_cpu));
     std::fflush(stdout);
   }
   return 0;

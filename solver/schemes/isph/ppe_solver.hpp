@@ -101,6 +101,10 @@ public:
   long setups() const { return setups_; }           // AMG set-ups so far
   double setup_seconds() const { return setup_s_; } // their total wall time (inside solve())
   double last_setup_seconds() const { return last_setup_s_; }
+  // CPU time of this thread inside solve() and inside the AMG set-ups (totals): on a loaded
+  // machine these count only our own work (the solvers run on the calling thread).
+  double cpu_seconds() const { return cpu_s_; }
+  double setup_cpu_seconds() const { return setup_cpu_s_; }
   int amg_levels() const;
   double amg_operator_complexity() const;
 
@@ -118,7 +122,7 @@ private:
   AmgSettings amg_settings_;
   int amg_setup_every_ = 1;
   long setups_ = 0;
-  double setup_s_ = 0.0, last_setup_s_ = 0.0;
+  double setup_s_ = 0.0, last_setup_s_ = 0.0, cpu_s_ = 0.0, setup_cpu_s_ = 0.0;
 };
 
 } // namespace sph
