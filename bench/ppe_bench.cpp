@@ -14,10 +14,12 @@
 // thread for the CPU ratios to mean what the wall ratios would on an idle machine.
 //
 // Usage: ppe_bench [--dx 0.02,0.01,...] [--warm 20] [--steps 5] [--rounds 2] [--threads 1]
-//                  [--variants bicgstab_ilu0,bicgstab_amg:1,bicgstab_amg:5,gmres_amg:1]
+//                  [--variants bicgstab_ilu0,bicgstab_amg,gmres_amg,gmres_amg:1]
 //                  [--tol 1e-6] [--coarsen 10] [--interp 6] [--strong 0.25] [--agg 0]
-//                  [--relax 6] [--pmax 4] [--sweeps 1] [--verbose]
-// A variant is solver[:k], k the AMG set-up interval (a new hierarchy every k solves).
+//                  [--relax K (down and up)] [--relax-down 3] [--relax-up 4]
+//                  [--relax-coarse 9] [--pmax 4] [--sweeps 1] [--verbose]
+// A variant is solver[:k], k the AMG set-up interval (a new hierarchy every k solves; without
+// :k the solver's adaptive default).
 #include "cases/cavity.hpp"
 #include "core/kernels/cubic_spline.hpp"
 #include "schemes/isph/isph.hpp"
@@ -49,7 +51,7 @@ std::vector<std::string> split(const std::string& s) {
 struct Variant {
   std::string name;
   PpeSolverKind kind;
-  int every = 1;
+  int every = 0; // AMG set-up interval, 0: adaptive (the solver's default)
 };
 
 struct Sample {
@@ -76,8 +78,7 @@ int main(int argc, char** argv) {
   int warm = 20, steps = 5, rounds = 2, threads = 1;
   bool verbose = false;
   double tol = 1e-6;
-  std::vector<std::string> vnames{"bicgstab_ilu0", "bicgstab_amg:1", "bicgstab_amg:5",
-                                  "gmres_amg:1"};
+  std::vector<std::string> vnames{"bicgstab_ilu0", "bicgstab_amg", "gmres_amg", "gmres_amg:1"};
   AmgSettings& as = amg_tuning().amg;
   for (int a = 1; a < argc; ++a) {
     const std::string k = argv[a];
@@ -114,8 +115,14 @@ int main(int argc, char** argv) {
       as.strong_threshold = std::stod(next());
     else if (k == "--agg")
       as.agg_num_levels = std::stoi(next());
-    else if (k == "--relax")
-      as.relax_type = std::stoi(next());
+    else if (k == "--relax") // down and up
+      as.relax_down = as.relax_up = std::stoi(next());
+    else if (k == "--relax-down")
+      as.relax_down = std::stoi(next());
+    else if (k == "--relax-up")
+      as.relax_up = std::stoi(next());
+    else if (k == "--relax-coarse")
+      as.relax_coarse = std::stoi(next());
     else if (k == "--pmax")
       as.p_max_elmts = std::stoi(next());
     else if (k == "--sweeps")
@@ -140,10 +147,10 @@ int main(int argc, char** argv) {
   std::printf("# ppe_bench: lid-driven cavity Re = 1000, VISC-04, tol %.0e, %d thread(s), warm-up "
               "%d steps, %d steps per sample, %d rounds (variants alternated)\n",
               tol, threads, warm, steps, rounds);
-  std::printf("# BoomerAMG: coarsen %d, interp %d, strong %.2f, agg levels %d, relax %d, pmax %d, "
-              "sweeps %d\n",
+  std::printf("# BoomerAMG: coarsen %d, interp %d, strong %.2f, agg levels %d, relax down %d up %d "
+              "coarsest %d, pmax %d, sweeps %d\n",
               as.coarsen_type, as.interp_type, as.strong_threshold, as.agg_num_levels,
-              as.relax_type, as.p_max_elmts, as.num_sweeps);
+              as.relax_down, as.relax_up, as.relax_coarse, as.p_max_elmts, as.num_sweeps);
   std::printf("# per step (one solve per step), wall ms and CPU ms; solve includes setup\n");
   std::printf("%-8s %-16s %5s %8s %6s %9s %9s %9s %9s %9s %9s %6s %5s\n", "N", "variant", "round",
               "it/solve", "setups", "setup", "solve", "step", "setup_cpu", "solve_cpu", "step_cpu",

@@ -130,7 +130,9 @@ void HypreAmg::setup(const RowMat& a) {
   HYPRE_BoomerAMGSetInterpType(m.amg, s.interp_type);
   HYPRE_BoomerAMGSetStrongThreshold(m.amg, s.strong_threshold);
   HYPRE_BoomerAMGSetAggNumLevels(m.amg, s.agg_num_levels);
-  HYPRE_BoomerAMGSetRelaxType(m.amg, s.relax_type);
+  HYPRE_BoomerAMGSetCycleRelaxType(m.amg, s.relax_down, 1);
+  HYPRE_BoomerAMGSetCycleRelaxType(m.amg, s.relax_up, 2);
+  HYPRE_BoomerAMGSetCycleRelaxType(m.amg, s.relax_coarse, 3);
   HYPRE_BoomerAMGSetNumSweeps(m.amg, s.num_sweeps);
   HYPRE_BoomerAMGSetPMaxElmts(m.amg, s.p_max_elmts);
   HYPRE_BoomerAMGSetMaxIter(m.amg, 1); // as a preconditioner: one V-cycle

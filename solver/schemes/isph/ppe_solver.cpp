@@ -220,6 +220,8 @@ struct PpeSolver::Impl {
   // AMG set-up reuse: row of each particle id in the set-up matrix, the current permutation.
   std::vector<int> setup_row, perm;
   int solves_since_setup = 0;
+  int iters_after_setup = 0; // iterations of the first solve on a new hierarchy
+  int excess = 0;            // iterations above that count since the set-up
   bool permuted = false;
   Eigen::VectorXd b, x, a1;
   // GMRES work space: Krylov basis, preconditioned basis, Hessenberg, rotations.
@@ -260,8 +262,11 @@ int PpeSolver::iterate(Solver& solver, Impl& s, const std::vector<double>& x0, i
 void PpeSolver::prepare_amg(Impl& s, int n, const std::vector<std::int64_t>* ids) {
   if (!s.amg)
     s.amg = std::make_unique<HypreAmg>(amg_settings_);
-  bool setup = s.amg->rows() != n || !ids || static_cast<int>(ids->size()) != n ||
-               s.solves_since_setup >= amg_setup_every_;
+  // Set-up cost in iterations of this Krylov method (see ppe_solver.hpp).
+  const int setup_cost = kind_ == PpeSolverKind::GmresAmg ? 8 : 4;
+  const bool due = amg_setup_every_ > 0 ? s.solves_since_setup >= amg_setup_every_
+                                        : s.excess >= setup_cost || s.solves_since_setup >= 50;
+  bool setup = s.amg->rows() != n || !ids || static_cast<int>(ids->size()) != n || due;
   s.permuted = false;
   if (!setup) {
     // Current row i holds particle ids[i]; perm[i] is that particle's row at set-up.
@@ -285,7 +290,7 @@ void PpeSolver::prepare_amg(Impl& s, int n, const std::vector<std::int64_t>* ids
     last_setup_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     setup_s_ += last_setup_s_, ++setups_;
     setup_cpu_s_ += thread_cpu_seconds() - c0;
-    s.solves_since_setup = 0;
+    s.solves_since_setup = 0, s.excess = 0;
     s.setup_row.clear();
     if (ids) {
       std::int64_t idmax = -1;
@@ -405,12 +410,13 @@ int PpeSolver::solve(const std::vector<double>& b, std::vector<double>& x,
     iters = iterate(s.bicg, s, x, n);
   } else if (kind_ == PpeSolverKind::BicgstabIlu0) {
     iters = iterate(s.ilu0, s, x, n);
-  } else if (kind_ == PpeSolverKind::BicgstabAmg) {
+  } else if (kind_ == PpeSolverKind::BicgstabAmg || kind_ == PpeSolverKind::GmresAmg) {
     prepare_amg(s, n, ids);
-    iters = iterate(s.bicg_amg, s, x, n);
-  } else if (kind_ == PpeSolverKind::GmresAmg) {
-    prepare_amg(s, n, ids);
-    iters = gmres(s, x, n);
+    iters = kind_ == PpeSolverKind::GmresAmg ? gmres(s, x, n) : iterate(s.bicg_amg, s, x, n);
+    if (s.solves_since_setup == 1)
+      s.iters_after_setup = iters;
+    else
+      s.excess += std::max(0, iters - s.iters_after_setup);
   } else {
     iters = iterate(s.jacobi, s, x, n);
   }

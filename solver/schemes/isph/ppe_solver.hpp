@@ -19,11 +19,17 @@
 //   "gmres_amg"       : restarted GMRES(30) (Saad & Schultz 1986), right-preconditioned by the
 //                       same V-cycle, so that its residual is the true one and the stopping rule
 //                       is the same as BiCGSTAB's.
-//   The AMG hierarchy is reused across steps (set up again every amg_setup_every() solves, or
-//   when the system size changes): given the particle identity of each row (solve()'s ids), the
-//   V-cycle of the set-up matrix is applied through the permutation from the current particle
-//   order to the set-up one. It is then a preconditioner for a nearby matrix; the Krylov
-//   iterations use the current one, so the solution and the tolerance are unchanged.
+//   The AMG hierarchy is reused across steps: given the particle identity of each row (solve()'s
+//   ids), the V-cycle of the set-up matrix is applied through the permutation from the current
+//   particle order to the set-up one. It is then a preconditioner for a nearby matrix; the Krylov
+//   iterations use the current one, so the solution and the tolerance are unchanged, only the
+//   iteration count grows with the age of the hierarchy. A new hierarchy is set up (default,
+//   amg_setup_every() = 0) when the iterations spent above the first solve's count since the
+//   last set-up reach the cost of a set-up, measured as 8 GMRES or 4 BiCGSTAB iterations (one or
+//   two V-cycles each; a set-up costs about 9 V-cycles at 42k unknowns, docs/isph.md), at the
+//   latest after 50 solves: for a linear growth of the count this is the optimal interval
+//   sqrt(2 set-up / growth rate). A fixed interval k (set_amg_setup_every(k)) is for the bench.
+//   Without ids, or when the size changes, the hierarchy is set up at every solve.
 //
 // The caller fills the CSR arrays (rows()); solve() returns the iterations (1 for the direct
 // solver) and keeps the last solve time. Non-template: SuiteSparse headers stay in one .cpp.
@@ -59,7 +65,9 @@ struct AmgSettings {
   int interp_type = 6;   // 6 extended+i, 0 classical
   double strong_threshold = 0.25;
   int agg_num_levels = 0; // levels of aggressive coarsening
-  int relax_type = 6;     // 6 hybrid symmetric Gauss-Seidel, 8 l1-GS, 18 l1-Jacobi
+  int relax_down = 3;     // 3 / 4 hybrid Gauss-Seidel forward / backward, 6 symmetric, 8 l1-GS,
+  int relax_up = 4;       // 18 l1-Jacobi
+  int relax_coarse = 9;   // 9 Gaussian elimination on the coarsest level
   int p_max_elmts = 4;    // interpolation truncation: entries per row
   int num_sweeps = 1;
 };
@@ -68,7 +76,7 @@ struct AmgSettings {
 // bench/ppe_bench to tune them (not a job parameter, so job keys do not depend on them).
 struct AmgTuning {
   AmgSettings amg;
-  int setup_every = 1; // a new hierarchy every k solves (see set_amg_setup_every)
+  int setup_every = 0; // 0: adaptive; k > 0: a new hierarchy every k solves
 };
 AmgTuning& amg_tuning();
 
@@ -94,9 +102,9 @@ public:
   double last_error() const { return last_error_; } // relative residual of the last solve
   std::vector<double> last_rhs() const;             // b of the last solve (for tests)
 
-  // AMG only: a new hierarchy every k solves (1: every solve); the default is the measured best
-  // (docs/isph.md).
-  void set_amg_setup_every(int k) { amg_setup_every_ = k < 1 ? 1 : k; }
+  // AMG only: a new hierarchy every k solves (1: every solve), or 0: adaptive (the default, see
+  // above).
+  void set_amg_setup_every(int k) { amg_setup_every_ = k < 0 ? 0 : k; }
   int amg_setup_every() const { return amg_setup_every_; }
   long setups() const { return setups_; }           // AMG set-ups so far
   double setup_seconds() const { return setup_s_; } // their total wall time (inside solve())
@@ -120,7 +128,7 @@ private:
   int max_iter_;
   double last_error_ = 0.0;
   AmgSettings amg_settings_;
-  int amg_setup_every_ = 1;
+  int amg_setup_every_ = 0;
   long setups_ = 0;
   double setup_s_ = 0.0, last_setup_s_ = 0.0, cpu_s_ = 0.0, setup_cpu_s_ = 0.0;
 };
