@@ -4,7 +4,7 @@
 set -euo pipefail
 PACKAGES=(
   cmake ninja-build g++ pkg-config git
-  libeigen3-dev libsuitesparse-dev libhdf5-dev
+  libeigen3-dev libsuitesparse-dev libhdf5-dev libhypre-dev
   libsqlite3-dev sqlite3 libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libssl-dev
   libgtest-dev
   gnuplot-nox chromium

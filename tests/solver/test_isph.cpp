@@ -1,6 +1,7 @@
 // Tests of the ISPH scheme (schemes/isph), the cavity cases and their diagnostics.
 #include "cases/case.hpp"
 #include "cases/cavity.hpp"
+#include "core/kernels/cubic_spline.hpp"
 #include "core/kernels/kernel.hpp"
 #include "diagnostics/cavity_profiles.hpp"
 #include "schemes/isph/isph.hpp"
@@ -9,6 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <map>
 
 using namespace sph;
 
@@ -161,6 +164,123 @@ TEST(Isph, ProjectionRemovesGradientFieldAndSolversAgree) {
       pmax = std::max(pmax, std::abs(pressure[0][i]));
     EXPECT_GT(pmax, 0.0);
     EXPECT_LT(dmax, 1e-6 * pmax) << k;
+  }
+}
+
+// The AMG-preconditioned solvers on a real cavity PPE system (lid-driven, Re = 100, dx = 0.02,
+// after 10 steps from rest): the system of the 11th step, captured from the scheme, solved by
+// BiCGSTAB + ILU(0), BiCGSTAB + BoomerAMG and GMRES + BoomerAMG from the same warm start. At the
+// default tolerance every solution's true residual meets it, so |A (x_amg - x_ilu0)| <= 2 tol |b|
+// (the two agree to the tolerance in the norm the tolerance is stated in); at tol 1e-10 the
+// pressures agree pointwise to 1e-6 of their range. Iterations at the default tolerance <= 10.
+TEST(Isph, AmgSolversMatchIlu0OnCavityPpe) {
+  Particles<2> p;
+  CavityGeometry g;
+  g.dx = 0.02;
+  const int f = build_cavity(p, g);
+  CubicSpline<2> W(1.2 * g.dx);
+  IsphOptions opt;
+  Isph<2, CubicSpline<2>> s(p, Domain<2>{}, W, opt, f, 1e-2, 2e-3, g.dx);
+  for (int k = 0; k < 10; ++k)
+    s.step();
+  const std::vector<double> x0 = p.p; // the warm start of the next solve
+  s.step();
+  const PpeSolver& sys = s.ppe();
+  const std::vector<double> b = sys.last_rhs();
+  const int n = static_cast<int>(b.size());
+  ASSERT_EQ(n, static_cast<int>(p.size()));
+  auto residual = [&](const std::vector<double>& x, const std::vector<double>& rhs) {
+    double r2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+      double a = -rhs[i];
+      for (int q = sys.offset[i]; q < sys.offset[i + 1]; ++q)
+        a += sys.val[q] * x[sys.col[q]];
+      r2 += a * a;
+    }
+    return std::sqrt(r2);
+  };
+  double bn = 0.0;
+  for (double v : b)
+    bn += v * v;
+  bn = std::sqrt(bn);
+  ASSERT_GT(bn, 0.0);
+  for (double tol : {1e-6, 1e-10}) {
+    std::vector<std::vector<double>> x;
+    for (auto kind :
+         {PpeSolverKind::BicgstabIlu0, PpeSolverKind::BicgstabAmg, PpeSolverKind::GmresAmg}) {
+      PpeSolver ppe(kind, tol, 1000);
+      ppe.offset = sys.offset, ppe.col = sys.col, ppe.val = sys.val;
+      std::vector<double> xi = x0;
+      const int it = ppe.solve(b, xi);
+      EXPECT_LE(ppe.last_error(), tol) << static_cast<int>(kind);
+      // Eigen's BiCGSTAB stops on its recursive residual: the true one within 10 %.
+      EXPECT_LE(residual(xi, b), 1.1 * tol * bn) << static_cast<int>(kind) << " tol " << tol;
+      if (kind != PpeSolverKind::BicgstabIlu0 && tol > 1e-7) // issue 21's target
+        EXPECT_LE(it, 10) << static_cast<int>(kind) << " tol " << tol;
+      x.push_back(xi);
+    }
+    const std::vector<double> zero(n, 0.0);
+    for (int k : {1, 2}) {
+      std::vector<double> d(n);
+      for (int i = 0; i < n; ++i)
+        d[i] = x[k][i] - x[0][i];
+      EXPECT_LE(residual(d, zero), 2.2 * tol * bn) << k << " tol " << tol;
+      if (tol < 1e-9) {
+        const auto [lo, hi] = std::minmax_element(x[0].begin(), x[0].end());
+        double dmax = 0.0;
+        for (double v : d)
+          dmax = std::max(dmax, std::abs(v));
+        EXPECT_GT(*hi - *lo, 0.0);
+        EXPECT_LT(dmax, 1e-6 * (*hi - *lo)) << k;
+      }
+    }
+  }
+}
+
+// The same short cavity job with bicgstab_amg (hierarchy reused across steps) and gmres_amg gives
+// the flow metrics of bicgstab_ilu0 within a bound set by the solver tolerance. Each solve leaves
+// a residual r with |r| <= tol |b|; b is div u* / dt (plus the small density term), so the
+// divergence the projection leaves differs between two solvers by at most 2 tol |div u*| per
+// step, and the velocity by dt |grad delta P| <= about 2 tol U0 (the lowest Neumann mode,
+// |grad A^-1| ~ 1 / pi on the unit square, div u* of order U0 / dx over the lid band, times dx).
+// Over n steps, without amplification at Re = 100: |delta u| <= 2 n tol U0; the bound used is
+// 10 n tol U0 (a factor 5 for the pointwise Shepard samples against the norm). Measured: about
+// 8e-9 for 20 steps at tol 1e-6 (bound 2e-4): the bound is a worst case.
+TEST(LidDrivenCavity, AmgSolversGiveIlu0Metrics) {
+  Params prm = defaults("lid_driven_cavity");
+  prm["dx"] = 0.05, prm["t_end"] = 0.1, prm["dt"] = 0.005, prm["Re"] = 100.0;
+  const double tol = get_real(prm, "ppe_tol"), n = 20.0, U0 = 1.0;
+  const double bound = 10.0 * n * tol * U0;
+  std::map<std::string, double> ref;
+  for (const char* solver : {"bicgstab_ilu0", "bicgstab_amg", "gmres_amg"}) {
+    prm["ppe_solver"] = std::string(solver);
+    RunResult r = find_case("lid_driven_cavity")->run(prm, RunContext{});
+    ASSERT_EQ(r.status, RunStatus::Done) << solver << ": " << r.message;
+    EXPECT_EQ(metric(r, "steps"), n);
+    int compared = 0;
+    double dmax = 0.0;
+    for (const auto& [k, v] : r.metrics) {
+      // Velocities and their errors; not the positions of the extrema (ux_min_y, uy_max_x, ...).
+      const bool flow = k.rfind("ux_", 0) == 0 || k.rfind("uy_", 0) == 0;
+      const bool position = k.size() > 2 && (k.ends_with("_x") || k.ends_with("_y"));
+      if (!flow || position)
+        continue;
+      if (ref.empty() || !ref.count(k)) {
+        if (std::string(solver) == "bicgstab_ilu0")
+          ref[k] = v;
+        continue;
+      }
+      ++compared;
+      dmax = std::max(dmax, std::abs(v - ref[k]));
+      EXPECT_NEAR(v, ref[k], bound) << solver << " " << k;
+    }
+    if (std::string(solver) != "bicgstab_ilu0") {
+      EXPECT_GT(compared, 30) << solver;
+      EXPECT_LE(metric(r, "ppe_iters_mean"), 10.0) << solver;
+      std::printf("%s: %d flow metrics, max |difference| to bicgstab_ilu0 %.2e (bound %.1e)\n",
+                  solver, compared, dmax, bound);
+    }
+    EXPECT_GT(metric(r, "ppe_solve_s_per_step"), 0.0);
   }
 }
 

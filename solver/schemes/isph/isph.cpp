@@ -29,7 +29,7 @@ const ParamTable<IsphOptions>& table() {
                 {0.0, 1.0})
           .choice("ppe_solver", &IsphOptions::solver, named(ppe_solver_names(), &parse_ppe_solver),
                   "PPE linear solver: umfpack (sparse LU), or bicgstab (warm-started) with ilut, "
-                  "ilu0 or jacobi")
+                  "ilu0, jacobi or amg (HYPRE BoomerAMG), or gmres_amg")
           .real("ppe_tol", &IsphOptions::ppe_tol, "relative residual tolerance of bicgstab",
                 {0.0, 1e-2, true})
           .integer("ppe_max_iter", &IsphOptions::ppe_max_iter, "iteration limit of bicgstab",

@@ -251,7 +251,7 @@ public:
     const auto t2 = clock::now();
     for (std::size_t i = 0; i < N; ++i)
       x_[i] = p_.p[i];
-    last_iters_ = ppe_.solve(rhs_, x_);
+    last_iters_ = ppe_.solve(rhs_, x_, &p_.id);
     for (std::size_t i = 0; i < N; ++i)
       p_.p[i] = x_[i];
     const auto t3 = clock::now();
@@ -372,6 +372,9 @@ public:
   }
   double ppe_residual() const {
     return ppe_.last_error();
+  }
+  const PpeSolver& ppe() const {
+    return ppe_;
   }
   long steps() const {
     return steps_;
