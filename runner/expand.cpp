@@ -7,7 +7,9 @@
 #include "params.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <set>
@@ -211,6 +213,18 @@ private:
   }
 };
 
+// `text` names `word` as a whole identifier.
+bool mentions(const std::string& text, const std::string& word) {
+  auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (auto pos = text.find(word); pos != std::string::npos; pos = text.find(word, pos + 1)) {
+    bool left = pos == 0 || !ident(text[pos - 1]);
+    bool right = pos + word.size() >= text.size() || !ident(text[pos + word.size()]);
+    if (left && right)
+      return true;
+  }
+  return false;
+}
+
 bool matches(const Params& p, const Exclude& e) {
   for (const auto& a : e.match) {
     auto it = p.find(a.name);
@@ -235,7 +249,7 @@ JobSpec make_job(const Study& study, Params params) {
   return job;
 }
 
-Expansion expand(const Study& study, const std::string& tier_name) {
+Expansion expand(const Study& study, const std::string& tier_name, std::size_t max_jobs) {
   Diagnostics diag(study.file);
   Expansion out;
   const Tier* tier = nullptr;
@@ -317,6 +331,20 @@ Expansion expand(const Study& study, const std::string& tier_name) {
       p[k] = v;
     if (!ex.resolve(p, derived, specs, scheme))
       return std::nullopt;
+    if (info.check)
+      if (auto bad = info.check(p)) {
+        // Name the line of a parameter the case's message mentions (dx in "1/dx must be...").
+        int line = origin_line;
+        for (const auto& [name, at] : set_at)
+          if (mentions(*bad, name)) {
+            line = at;
+            break;
+          }
+        ex.report(line, "case '" + info.name + "'" +
+                            (scheme.empty() ? std::string() : " (scheme '" + scheme + "')") + ": " +
+                            *bad);
+        return std::nullopt;
+      }
     return p;
   };
 
@@ -330,11 +358,42 @@ Expansion expand(const Study& study, const std::string& tier_name) {
     out.jobs.push_back(std::move(job));
   };
 
-  // With no axes the product is the single base job, unless explicit cases replace it.
+  // With no axes the product is the single base job, unless explicit cases replace it. Counted
+  // before anything is expanded (in long double: 1e18 jobs must not wrap around).
   std::size_t total = dims.empty() && !def.cases.empty() ? 0 : 1;
+  {
+    long double count = static_cast<long double>(total);
+    std::string factors;
+    int line = 0;
+    std::size_t largest = 0;
+    auto factor = [&](std::size_t n, int at, const std::string& what) {
+      count *= static_cast<long double>(n);
+      factors += (factors.empty() ? "" : " x ") + std::to_string(n) + " (" + what + ")";
+      if (n > largest)
+        largest = n, line = at;
+    };
+    for (const auto& ax : def.sweep)
+      factor(ax.values.size(), ax.line, ax.name);
+    for (const auto& g : def.zip)
+      factor(g.length(), g.line, "zip group");
+    count += static_cast<long double>(def.cases.size());
+    if (count > static_cast<long double>(max_jobs)) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, count < 1e15L ? "%.0Lf" : "%.3Le", count);
+      diag.error(
+          line,
+          std::string("the study") + (tier ? " (tier '" + tier->name + "')" : std::string()) +
+              " expands to " + buf + " jobs" + (factors.empty() ? "" : " = " + factors) +
+              (def.cases.empty() ? "" : " + " + std::to_string(def.cases.size()) + " [[cases]]") +
+              ", more than the limit of " + std::to_string(max_jobs) +
+              "; sweep fewer values, or raise the limit with --max-jobs N");
+      diag.throw_if_any();
+    }
+  }
   for (const auto& d : dims)
     total *= d.size();
   out.combinations = total;
+  out.jobs.reserve(total + def.cases.size());
   std::vector<std::size_t> idx(dims.size(), 0);
   for (std::size_t n = 0; n < total && diag.size() < 25; ++n) {
     Params given = fixed;

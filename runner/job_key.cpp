@@ -34,6 +34,16 @@ nlohmann::json identity_params_json(const std::vector<ParamSpec>& specs, const P
     if (s.type == ParamType::Real)
       if (auto i = std::get_if<std::int64_t>(&v))
         v = static_cast<double>(*i);
+    if (s.neutral_default) {
+      // At its declared neutral default the parameter leaves the key as it was before the
+      // parameter existed (the finished jobs of the case keep their keys).
+      ParamValue d = s.default_value;
+      if (s.type == ParamType::Real)
+        if (auto i = std::get_if<std::int64_t>(&d))
+          d = static_cast<double>(*i);
+      if (v == d)
+        continue;
+    }
     j[s.name] = value_to_json(v);
   }
   return j;

@@ -38,6 +38,10 @@ struct ParamSpec {
   std::vector<std::string> choices; // String: allowed values (empty: any)
   // false: does not enter the job's identity (threads, output options).
   bool identity = true;
+  // true: at its default value the parameter does not enter the job key either, so a parameter
+  // added to a case with a default that reproduces the old behaviour keeps the keys (and the
+  // finished results) of the jobs that do not set it. Other values enter the key as usual.
+  bool neutral_default = false;
 };
 
 // Typed access to resolved parameters (the runner guarantees presence and type).
@@ -105,6 +109,9 @@ struct CaseInfo {
   std::vector<std::string> schemes; // schemes this case runs with (empty: none; first = default)
   std::vector<ParamSpec> params;    // the case's own parameters (geometry, physics, diagnostics)
   std::function<RunResult(const Params&, const RunContext&)> run;
+  // Optional: the case's own constraints on a resolved parameter set, checked when a study is
+  // validated (before anything runs): an error message ("1/dx must be an integer"), or nullopt.
+  std::function<std::optional<std::string>(const Params&)> check;
 };
 
 // All registered cases, in registration order.
