@@ -115,7 +115,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
                std::ostream& err) {
   if (opts.jobs_per_task < 1)
     throw std::runtime_error("--jobs-per-task must be at least 1");
-  Expansion ex = expand(study, opts.tier);
+  Expansion ex = expand(study, opts.tier, opts.max_jobs);
   const std::string tier = ex.tier;
   Store store = Store::open_write(opts.db_path);
   const std::string host = host_name();
@@ -183,7 +183,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
         "state='pending' RETURNING attempts");
     Stmt a = store.db().prepare(
         "INSERT INTO attempts(job_id, attempt, state, started_at, host, pid, threads, "
-        "code_version, compiler) VALUES(?,?,'running',?,'slurm',?,?,?,?)");
+        "code_version, compiler, solver_fingerprint) VALUES(?,?,'running',?,'slurm',?,?,?,?,?)");
     json task = json::array();
     double now = unix_now();
     for (const JobRow* row : todo) {
@@ -195,7 +195,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
       int attempt = static_cast<int>(u.integer(0));
       u.reset();
       a.bind(1, row->id).bind(2, attempt).bind(3, now).bind(4, pid).bind(5, opts.threads_per_job);
-      a.bind(6, code_version()).bind(7, compiler_id()).run();
+      a.bind(6, code_version()).bind(7, compiler_id()).bind(8, solver_fingerprint()).run();
       const JobSpec& job = ex.jobs[row->ordinal];
       std::string stem = job.key + "." + std::to_string(attempt);
       // Outputs (HDF5 series, checkpoints) go to the shared directory the nodes see; ingestion
