@@ -236,17 +236,23 @@ bool matches(const Params& p, const Exclude& e) {
 
 } // namespace
 
-JobSpec make_job(const Study& study, Params params) {
+JobSpec make_job(const Study& study, Params params, const std::vector<ParamSpec>& specs) {
   JobSpec job;
   job.case_name = study.case_name;
   if (auto it = params.find(scheme_param); it != params.end())
     job.scheme = std::get<std::string>(it->second);
-  auto ident = identity_params_json(job_specs(*study.info, job.scheme), params);
-  job.params_json = ident.dump();
-  job.canonical = canonical_job_json(job.case_name, job.scheme, ident, numerics_version);
+  job.params_json = identity_params_json(specs, params).dump();
+  job.canonical = canonical_job_text(job.case_name, job.scheme, job.params_json, numerics_version);
   job.key = job_key(job.canonical);
   job.params = std::move(params);
   return job;
+}
+
+JobSpec make_job(const Study& study, Params params) {
+  std::string scheme;
+  if (auto it = params.find(scheme_param); it != params.end())
+    scheme = std::get<std::string>(it->second);
+  return make_job(study, std::move(params), job_specs(*study.info, scheme));
 }
 
 Expansion expand(const Study& study, const std::string& tier_name, std::size_t max_jobs) {
@@ -303,6 +309,7 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
 
   Expander ex(study, diag);
   std::map<std::string, std::vector<ParamSpec>> specs_by_scheme;
+  std::map<std::string, Params> defaults_by_scheme;
   const CaseInfo& info = *study.info;
   // A job's full parameter set from its explicit values: its scheme's specs, defaults, derived.
   auto build = [&](const Params& given, int origin_line) -> std::optional<Params> {
@@ -324,9 +331,11 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
                       "' that some jobs use; set it per scheme with [[zip]] or [[cases]]");
         return std::nullopt;
       }
-    Params p;
-    for (const auto& sp : specs)
-      p[sp.name] = sp.default_value;
+    auto [dit, fresh_defaults] = defaults_by_scheme.try_emplace(scheme);
+    if (fresh_defaults)
+      for (const auto& sp : specs)
+        dit->second[sp.name] = sp.default_value;
+    Params p = dit->second;
     for (const auto& [k, v] : given)
       p[k] = v;
     if (!ex.resolve(p, derived, specs, scheme))
@@ -350,7 +359,13 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
 
   std::unordered_set<std::string> keys;
   auto add = [&](Params p) {
-    JobSpec job = make_job(study, std::move(p));
+    std::string scheme;
+    if (auto it = p.find(scheme_param); it != p.end())
+      scheme = std::get<std::string>(it->second);
+    auto [sit, fresh] = specs_by_scheme.try_emplace(scheme);
+    if (fresh)
+      sit->second = job_specs(info, scheme);
+    JobSpec job = make_job(study, std::move(p), sit->second);
     if (!keys.insert(job.key).second) {
       ++out.duplicates;
       return;
@@ -394,6 +409,7 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
     total *= d.size();
   out.combinations = total;
   out.jobs.reserve(total + def.cases.size());
+  keys.reserve(total + def.cases.size());
   std::vector<std::size_t> idx(dims.size(), 0);
   for (std::size_t n = 0; n < total && diag.size() < 25; ++n) {
     Params given = fixed;

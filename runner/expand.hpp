@@ -41,5 +41,7 @@ Expansion expand(const Study& study, const std::string& tier = "",
 
 // Builds a JobSpec (key, canonical JSON) from resolved params.
 JobSpec make_job(const Study& study, Params params);
+// Same, with the job's specs (job_specs of its scheme) already at hand.
+JobSpec make_job(const Study& study, Params params, const std::vector<ParamSpec>& specs);
 
 } // namespace sph::runner

@@ -56,6 +56,16 @@ nlohmann::json all_params_json(const Params& params) {
   return j;
 }
 
+std::string canonical_job_text(const std::string& case_name, const std::string& scheme,
+                               const std::string& identity_params_text, int numerics) {
+  // Exactly what canonical_job_json dumps (keys sorted: case, numerics_version, params, scheme;
+  // compact), without building a second JSON tree per job.
+  return "{\"case\":" + nlohmann::json(case_name).dump() +
+         ",\"numerics_version\":" + std::to_string(numerics) +
+         ",\"params\":" + identity_params_text + ",\"scheme\":" + nlohmann::json(scheme).dump() +
+         "}";
+}
+
 std::string canonical_job_json(const std::string& case_name, const std::string& scheme,
                                const nlohmann::json& identity_params, int numerics) {
   nlohmann::json j = nlohmann::json::object();

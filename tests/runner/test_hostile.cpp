@@ -397,7 +397,7 @@ TEST(Hostile, SighupAndSigpipeStopARunCleanly) {
   // `runner ... | head -1`: the reader goes away, the next line written raises SIGPIPE.
   // The jobs hang; the plain progress line every 0.3 s is the write that meets the closed pipe.
   std::string cmd = "cd '" + dir.path().string() + "' && set -o pipefail; SPH_RUNNER_FAULT=hang '" +
-                    RUNNER_EXE + "' s.toml -j 2 --progress plain --log-every-s 0.3 | head -1 > " +
+                    runner_exe() + "' s.toml -j 2 --progress plain --log-every-s 0.3 | head -1 > " +
                     "head.txt";
   int status = std::system(("bash -c \"" + cmd + "\"").c_str());
   EXPECT_TRUE(WIFEXITED(status));
