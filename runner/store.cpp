@@ -228,6 +228,10 @@ Store Store::open_write(const fs::path& path, bool allow_network_fs) {
   // larger than 1 MB is cut back to that after a checkpoint (a full disk must not come from it).
   db.exec("PRAGMA wal_autocheckpoint=250");
   db.exec("PRAGMA journal_size_limit=1048576");
+  // A page cache of up to 128 MB (allocated as used): registering 100,000 jobs in one
+  // transaction touches tens of MB of index pages, which the default 2 MB cache spills to the
+  // -wal file again and again.
+  db.exec("PRAGMA cache_size=-131072");
   Store store(std::move(db), path);
   store.migrate();
   return store;
