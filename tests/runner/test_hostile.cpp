@@ -577,3 +577,23 @@ TEST(Hostile, ExistingCasesKeepTheirJobKeys) {
   // = SHA-256 of the documented canonical text (docs/runner.md, "Job identity").
   EXPECT_EQ(ex.jobs[0].key, "d25450f316f49551c8083da3e629ff22307e70e4eec511e0324e40ae0d6bf204");
 }
+
+TEST(Hostile, OnThisHostALiveOwnerKeepsItsJobWhateverItsHeartbeat) {
+  TempDir dir;
+  auto store = Store::open_write(dir / "r.sqlite");
+  write_text(dir / "s.toml", patch_study("hb", "8, 9"));
+  Study st = load_study(dir / "s.toml");
+  auto r = store.sync_study({"hb", "patch_test", "", "s.toml", "x"}, "full", expand(st).jobs, false,
+                            3, unix_now());
+  const double now = unix_now();
+  // Both heartbeats 100 s old: this host's live owner keeps its job, another host's is taken.
+  store.claim(r.jobs[0].id, {"hostA", 333, 1, "v", "c", now - 100, "fp"});
+  store.claim(r.jobs[1].id, {"hostB", 333, 1, "v", "c", now - 100, "fp"});
+  auto stale = store.reset_stale("hostA", 999, now, 30, [](int pid) { return pid == 333; });
+  ASSERT_EQ(stale.size(), 1u);
+  EXPECT_CONTAINS(stale[0].reason, "heartbeat stale");
+  EXPECT_CONTAINS(stale[0].reason, "hostB");
+  EXPECT_EQ(store.db().scalar_int("SELECT count(*) FROM jobs WHERE state='running' AND "
+                                  "owner_host='hostA'"),
+            1);
+}
