@@ -212,6 +212,8 @@ int main(int argc, char** argv) {
   submit->add_option("--timeout", submit_timeout, "Wall-clock limit per job in seconds")
       ->check(finite_number(0, true, "; omit --timeout for no limit"));
   submit->add_flag("--retry-failed", so.retry_failed, "Resubmit failed/diverged/timed-out jobs");
+  submit->add_flag("--rerun-stale", so.rerun_stale,
+                   "Resubmit finished jobs made by other solver code (stale)");
   submit
       ->add_option("--max-jobs", so.max_jobs,
                    "Refuse a study that expands to more jobs than this (counted before expanding)")

@@ -32,6 +32,7 @@ struct SubmitOptions {
   std::size_t max_jobs = default_max_jobs; // refuse larger studies before expanding
   std::optional<double> timeout_s;         // per job; the Slurm time limit is derived from it
   bool retry_failed = false;
+  bool rerun_stale = false; // resubmit finished jobs made by other solver code
   int max_attempts = 3;
   std::string partition;                // "" : the cluster's default
   std::vector<std::string> sbatch_args; // extra sbatch options, e.g. --account=X

@@ -597,3 +597,19 @@ TEST(Hostile, OnThisHostALiveOwnerKeepsItsJobWhateverItsHeartbeat) {
                                   "owner_host='hostA'"),
             1);
 }
+
+TEST(Hostile, SubmitShowsStaleJobsAndResubmitsThemOnRequest) {
+  TempDir dir;
+  write_text(dir / "s.toml", patch_study("fps", "8"));
+  ASSERT_EQ(run_runner(dir, "s.toml", "SPH_RUNNER_SOLVER_FINGERPRINT=aaaa").code, 0);
+  auto keep =
+      run_runner(dir, "submit s.toml --slurm --dry-run", "SPH_RUNNER_SOLVER_FINGERPRINT=bbbb");
+  EXPECT_EQ(keep.code, 0) << keep.out;
+  EXPECT_CONTAINS(keep.out, "2 finished job(s) are stale");
+  EXPECT_CONTAINS(keep.out, "0 to submit");
+  auto re = run_runner(dir, "submit s.toml --slurm --dry-run --rerun-stale",
+                       "SPH_RUNNER_SOLVER_FINGERPRINT=bbbb");
+  EXPECT_EQ(re.code, 0) << re.out;
+  EXPECT_CONTAINS(re.out, "resubmitting 2 stale job(s)");
+  EXPECT_CONTAINS(re.out, "2 to submit");
+}
