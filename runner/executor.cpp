@@ -377,14 +377,10 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             << " lost (pending again), " << ing.waiting << " still submitted\n";
     }
 
-    StudyRecord rec{study.name, study.case_name, study.description,
-                    fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
-    sync =
-        store.sync_study(rec, tier, ex.jobs, opts.retry_failed, opts.max_attempts, unix_now(),
-                         opts.rerun_stale ? std::optional<std::string>(fingerprint) : std::nullopt);
+    sync = store.register_expansion(study, ex, opts.retry_failed, opts.max_attempts,
+                                    opts.rerun_stale, fingerprint);
     stale_requeued = sync.stale_requeued;
-    if (!opts.rerun_stale)
-      stale_kept = store.stale_count(sync.study_id, tier, fingerprint);
+    stale_kept = sync.stale_kept;
     store.checkpoint_wal(false);
   } catch (const SqliteError& e) {
     throw db_error(e);

@@ -126,15 +126,12 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
     out << "ingested " << ing.ingested << " finished Slurm job(s)"
         << (ing.lost ? ", " + std::to_string(ing.lost) + " lost (pending again)" : "") << "\n";
 
-  StudyRecord rec{study.name, study.case_name, study.description,
-                  fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
   const std::string fingerprint = solver_fingerprint();
-  SyncReport sync =
-      store.sync_study(rec, tier, ex.jobs, opts.retry_failed, opts.max_attempts, unix_now(),
-                       opts.rerun_stale ? std::optional<std::string>(fingerprint) : std::nullopt);
+  SyncReport sync = store.register_expansion(study, ex, opts.retry_failed, opts.max_attempts,
+                                             opts.rerun_stale, fingerprint);
   if (sync.stale_requeued)
     out << "resubmitting " << sync.stale_requeued << " stale job(s) (--rerun-stale)\n";
-  else if (auto n = store.stale_count(sync.study_id, tier, fingerprint))
+  else if (auto n = sync.stale_kept)
     out << "note: " << n << " finished job(s) are stale: made by other solver code (fingerprint "
         << "differs from this build's " << fingerprint
         << "); kept as they are, --rerun-stale resubmits them\n";

@@ -278,6 +278,19 @@ std::string stale_sql(Db& db, const std::string& job, const std::string& state,
   return "(" + state + " IN ('done','diverged') AND " + fingerprint + " IS NOT " + fp + ")";
 }
 
+SyncReport Store::register_expansion(const Study& study, const Expansion& ex, bool retry_failed,
+                                     int max_attempts, bool rerun_stale,
+                                     const std::string& fingerprint) {
+  StudyRecord rec{study.name, study.case_name, study.description,
+                  fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
+  SyncReport sync =
+      sync_study(rec, ex.tier, ex.jobs, retry_failed, max_attempts, unix_now(),
+                 rerun_stale ? std::optional<std::string>(fingerprint) : std::nullopt);
+  if (!rerun_stale)
+    sync.stale_kept = stale_count(sync.study_id, ex.tier, fingerprint);
+  return sync;
+}
+
 std::size_t Store::stale_count(std::int64_t study_id, const std::string& tier,
                                const std::string& fingerprint) {
   Stmt q = db_.prepare("SELECT count(*) FROM jobs j WHERE j.id IN (SELECT job_id FROM study_jobs "

@@ -43,6 +43,7 @@ struct SyncReport {
   std::size_t requeued = 0;  // failed/diverged/timeout jobs put back to pending (--retry-failed)
   std::size_t exhausted = 0; // failed jobs left alone because they reached max_attempts
   std::size_t stale_requeued = 0; // done/diverged jobs of other solver code put back to pending
+  std::size_t stale_kept = 0;     // ... kept as they are (without rerun_stale)
   std::vector<JobRow> jobs;       // in expansion order
 };
 
@@ -99,6 +100,12 @@ public:
   SyncReport sync_study(const StudyRecord& study, const std::string& tier,
                         const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
                         double now, const std::optional<std::string>& rerun_stale_of = {});
+
+  // The front half shared by `run` and `submit`: registers an expanded study (sync_study with the
+  // study's record) and counts the stale jobs it keeps; fingerprint is this build's solver
+  // fingerprint, rerun_stale puts the stale ones back to pending instead.
+  SyncReport register_expansion(const Study& study, const Expansion& ex, bool retry_failed,
+                                int max_attempts, bool rerun_stale, const std::string& fingerprint);
 
   // Done and diverged jobs of a study's tier (current expansion) whose result was made by solver
   // code other than `fingerprint` (or before fingerprints were recorded).
