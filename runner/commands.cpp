@@ -4,11 +4,13 @@
 #include "diagnostics.hpp"
 #include "params.hpp"
 #include "progress.hpp"
+#include "provenance.hpp"
 #include "store.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -41,6 +43,16 @@ std::string cell(const Stmt& s, int i) {
   case SQLITE_FLOAT: {
     std::string r = format_real(s.real(i));
     return r;
+  }
+  case SQLITE_BLOB: {
+    // As an SQL blob literal (X'00ff...'), never raw bytes in the CSV.
+    const auto* p = static_cast<const unsigned char*>(sqlite3_column_blob(s.handle(), i));
+    const int n = sqlite3_column_bytes(s.handle(), i);
+    static const char* hex = "0123456789abcdef";
+    std::string r = "X'";
+    for (int k = 0; k < n; ++k)
+      r += hex[p[k] >> 4], r += hex[p[k] & 15];
+    return r + "'";
   }
   default:
     return s.text(i);
@@ -77,14 +89,77 @@ std::string json_path(const std::string& param) {
 
 } // namespace
 
+namespace {
+
+// The authorizer of `runner query`: reads only. Denies every write, schema change, transaction
+// control, ATTACH/DETACH, and any PRAGMA that sets a value (PRAGMA x = y, or x(y) other than the
+// table-valued read pragmas). Together with sqlite3_stmt_readonly() (which is false for VACUUM,
+// VACUUM INTO, wal_checkpoint and journal_mode changes) the statement cannot change a file.
+int query_authorizer(void* denied, int action, const char* a, const char* b, const char*,
+                     const char*) {
+  auto deny = [&](const std::string& what) {
+    auto* d = static_cast<std::string*>(denied);
+    if (d->empty())
+      *d = what;
+    return SQLITE_DENY;
+  };
+  switch (action) {
+  case SQLITE_SELECT:
+  case SQLITE_READ:
+  case SQLITE_FUNCTION:
+  case SQLITE_RECURSIVE:
+    return SQLITE_OK;
+  case SQLITE_PRAGMA: {
+    static const std::set<std::string> with_argument = {
+        "table_info",     "table_xinfo",      "index_info",        "index_xinfo",
+        "index_list",     "foreign_key_list", "foreign_key_check", "integrity_check",
+        "quick_check",    "table_list",       "function_list",     "pragma_list",
+        "collation_list", "database_list",    "compile_options"};
+    std::string name = a ? a : "";
+    for (auto& c : name)
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!b || with_argument.count(name))
+      return SQLITE_OK;
+    return deny("PRAGMA " + name + " with a value");
+  }
+  case SQLITE_ATTACH:
+    return deny("ATTACH");
+  case SQLITE_DETACH:
+    return deny("DETACH");
+  case SQLITE_TRANSACTION:
+  case SQLITE_SAVEPOINT:
+    return deny("transaction control");
+  default:
+    return deny("a statement that writes");
+  }
+}
+
+} // namespace
+
 int cmd_query(const std::filesystem::path& db_path, const std::string& sql, std::ostream& out) {
   Store store = Store::open_read(db_path);
+  std::string denied;
+  sqlite3* h = store.db().handle();
   sqlite3_stmt* raw = nullptr;
   const char* tail = nullptr;
-  int rc = sqlite3_prepare_v2(store.db().handle(), sql.c_str(), -1, &raw, &tail);
-  if (rc != SQLITE_OK)
-    throw std::runtime_error(std::string("SQL error: ") + sqlite3_errmsg(store.db().handle()));
+  const char* query_only =
+      "runner query only reads: write with the sqlite3 shell on a copy, or through the runner";
+  sqlite3_set_authorizer(h, query_authorizer, &denied);
+  int rc = sqlite3_prepare_v2(h, sql.c_str(), -1, &raw, &tail);
+  if (rc != SQLITE_OK) {
+    if (!denied.empty())
+      throw std::runtime_error("refused: " + denied + " is not allowed; " + query_only);
+    throw std::runtime_error(std::string("SQL error: ") + sqlite3_errmsg(h));
+  }
+  if (!raw)
+    throw std::runtime_error("runner query: the SQL statement is empty; e.g. runner query "
+                             "\"SELECT * FROM job_metrics LIMIT 10\"");
+  const bool readonly = sqlite3_stmt_readonly(raw) != 0;
   sqlite3_finalize(raw);
+  if (!readonly)
+    throw std::runtime_error("refused: the statement would change the database or write a file "
+                             "(VACUUM, checkpoints, journal mode...); " +
+                             std::string(query_only));
   if (!only_space(tail))
     throw std::runtime_error("runner query runs one SQL statement; remove what follows '" +
                              sql.substr(0, static_cast<std::size_t>(tail - sql.c_str())) + "'");
@@ -112,12 +187,21 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
   static const char* states[] = {"pending", "submitted", "running", "done",
                                  "failed",  "diverged",  "timeout"};
   std::string where = sid ? " WHERE s.id=" + std::to_string(*sid) : "";
-  Stmt q = db.prepare("SELECT s.name, sj.tier, j.state, count(*) FROM studies s JOIN study_jobs "
+  // "stale": done or diverged jobs whose result was made by other solver code than this build's
+  // (docs/runner.md, "Stale results"); counted among done/diverged too.
+  Stmt q = db.prepare("SELECT s.name, sj.tier, j.state, count(*), sum(" +
+                      stale_sql(db, "j.id", "j.state", "?1") +
+                      ") FROM studies s JOIN study_jobs "
                       "sj ON sj.study_id=s.id AND sj.current JOIN jobs j ON j.id=sj.job_id" +
                       where + " GROUP BY s.name, sj.tier, j.state ORDER BY s.name, sj.tier");
+  q.bind(1, solver_fingerprint());
   std::map<std::pair<std::string, std::string>, std::map<std::string, std::int64_t>> table;
-  while (q.step())
+  std::int64_t stale_total = 0;
+  while (q.step()) {
     table[{q.text(0), q.text(1)}][q.text(2)] = q.integer(3);
+    table[{q.text(0), q.text(1)}]["stale"] += q.integer(4);
+    stale_total += q.integer(4);
+  }
   if (table.empty())
     out << "no jobs" << (study.empty() ? "" : " in study '" + study + "'") << "\n";
   char buf[64];
@@ -127,15 +211,17 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
     std::snprintf(buf, sizeof buf, " %8s", s);
     out << buf;
   }
-  out << "\n";
+  out << "    stale\n";
   for (const auto& [k, counts] : table) {
     std::int64_t total = 0;
     for (const auto& [s, c] : counts)
-      total += c;
+      if (std::string(s) != "stale")
+        total += c;
     std::snprintf(buf, sizeof buf, "%-24s %-8s %7lld", k.first.c_str(), k.second.c_str(),
                   static_cast<long long>(total));
     out << buf;
-    for (const char* s : states) {
+    for (const char* s :
+         {"pending", "submitted", "running", "done", "failed", "diverged", "timeout", "stale"}) {
       auto it = counts.find(s);
       std::snprintf(buf, sizeof buf, " %8lld",
                     static_cast<long long>(it == counts.end() ? 0 : it->second));
@@ -143,6 +229,10 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
     }
     out << "\n";
   }
+  if (stale_total > 0)
+    out << "\nstale: " << stale_total << " finished job(s) were computed by other solver code "
+        << "than this build's (fingerprint " << solver_fingerprint() << "); their results are "
+        << "kept and shown, `runner STUDY.toml --rerun-stale` recomputes them\n";
 
   // Per-job test (study_jobs_job index), so that the few running or failed jobs drive the
   // queries rather than the list of all the study's jobs.
@@ -420,6 +510,18 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
     }
     grid.push_back(line);
   }
+  // Stale results (made by other solver code) are shown, not hidden: a note under the table
+  // (not in CSV, which stays a plain grid; `runner export` has a stale column).
+  std::string stale_note;
+  {
+    Stmt c = db.prepare("SELECT count(*) FROM jobs j WHERE j.id IN (SELECT job_id FROM study_jobs "
+                        "WHERE study_id=?1 AND current) AND " +
+                        stale_sql(db, "j.id", "j.state", "?2"));
+    c.bind(1, sid).bind(2, solver_fingerprint());
+    if (c.step() && c.integer(0) > 0)
+      stale_note = "note: " + std::to_string(c.integer(0)) + " of the study's finished jobs are " +
+                   "stale (computed by other solver code than this build's; --rerun-stale)\n";
+  }
   if (t.format == "csv") {
     for (const auto& line : grid) {
       for (std::size_t i = 0; i < line.size(); ++i)
@@ -441,6 +543,7 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
         out << "\n";
       }
     }
+    out << (stale_note.empty() ? "" : "\n" + stale_note);
     return 0;
   }
   std::vector<std::size_t> width(head.size(), 0);
@@ -458,6 +561,7 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
     }
     out << "\n";
   }
+  out << stale_note;
   return 0;
 }
 
@@ -472,17 +576,21 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
     std::string key, state, scheme;
     nlohmann::json params;
     std::map<std::string, std::optional<double>> metrics;
+    bool stale = false; // made by other solver code than this build's
   };
   std::vector<Row> rows;
   std::map<std::int64_t, std::size_t> index;
   Stmt q = db.prepare(
-      "SELECT j.id, j.key, j.state, j.scheme, j.params_json FROM jobs j JOIN "
-      "(SELECT job_id, min(ordinal) AS o FROM study_jobs WHERE study_id=? AND current GROUP "
+      "SELECT j.id, j.key, j.state, j.scheme, j.params_json, " +
+      stale_sql(db, "j.id", "j.state", "?2") +
+      " FROM jobs j JOIN "
+      "(SELECT job_id, min(ordinal) AS o FROM study_jobs WHERE study_id=?1 AND current GROUP "
       "BY job_id) sj ON sj.job_id=j.id ORDER BY sj.o");
-  q.bind(1, sid);
+  q.bind(1, sid).bind(2, solver_fingerprint());
   while (q.step()) {
     index[q.integer(0)] = rows.size();
-    rows.push_back({q.text(1), q.text(2), q.text(3), nlohmann::json::parse(q.text(4)), {}});
+    rows.push_back(
+        {q.text(1), q.text(2), q.text(3), nlohmann::json::parse(q.text(4)), {}, q.integer(5) != 0});
   }
   std::vector<std::string> metric_names;
   Stmt m = db.prepare("SELECT m.job_id, m.name, m.value FROM metrics m WHERE m.job_id IN "
@@ -508,7 +616,8 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
                      {"status", r.state},
                      {"scheme", r.scheme},
                      {"params", r.params},
-                     {"metrics", metrics}});
+                     {"metrics", metrics},
+                     {"stale", r.stale}});
     }
     out << arr.dump(1) << "\n";
     return 0;
@@ -523,7 +632,7 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
     out << "," << csv_field(p);
   for (const auto& n : metric_names)
     out << "," << csv_field(n);
-  out << "\n";
+  out << ",stale\n"; // the last column: 1 when made by other solver code than this build's
   for (const auto& r : rows) {
     out << r.key << "," << r.state << "," << csv_field(r.scheme);
     for (const auto& p : param_names) {
@@ -544,7 +653,7 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
       if (it != r.metrics.end() && it->second)
         out << format_real(*it->second);
     }
-    out << "\n";
+    out << "," << (r.stale ? 1 : 0) << "\n";
   }
   return 0;
 }

@@ -12,14 +12,18 @@
 #include "store.hpp"
 
 #include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <condition_variable>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <deque>
+#include <fcntl.h>
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <sys/file.h>
 #include <thread>
 #include <unistd.h>
 
@@ -37,7 +41,7 @@ extern "C" void on_stop_signal(int sig) {
   g_stop.fetch_add(1);
 }
 
-// Installs SIGINT/SIGTERM handlers for the lifetime of a run.
+// Installs SIGINT/SIGTERM/SIGHUP/SIGPIPE handlers for the lifetime of a run.
 class SignalGuard {
 public:
   SignalGuard() {
@@ -46,17 +50,19 @@ public:
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
+    for (std::size_t i = 0; i < n; ++i)
+      sigaction(signals[i], &sa, &old_[i]);
   }
   ~SignalGuard() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
+    for (std::size_t i = 0; i < n; ++i)
+      sigaction(signals[i], &old_[i], nullptr);
   }
 
 private:
-  struct sigaction old_int_ {
-  }, old_term_{};
+  // SIGHUP: the terminal closed; SIGPIPE: stdout is a pipe whose reader went away (`| head`).
+  static constexpr int signals[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+  static constexpr std::size_t n = sizeof signals / sizeof *signals;
+  struct sigaction old_[n] = {};
 };
 
 struct Task {
@@ -64,7 +70,65 @@ struct Task {
   std::int64_t job_id = 0;
   int attempt = 0;
   fs::path spec, result, log, progress, output_dir;
+  int lock_fd = -1; // flock on <output_dir>/.attempt.lock while the attempt runs
 };
+
+const char* const folder_lock_name = ".attempt.lock";
+
+// Takes an exclusive lock on the job's output folder for its attempt (held by the runner while
+// the job process runs; released by the kernel if the runner dies). false when another attempt
+// holds it; *holder then says which pid wrote it.
+bool take_folder_lock(Task& t, std::string* holder) {
+  const fs::path p = t.output_dir / folder_lock_name;
+  int fd = ::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0)
+    throw std::runtime_error("cannot create " + p.string() + ": " + std::strerror(errno));
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    char buf[64] = {};
+    ssize_t n = ::pread(fd, buf, sizeof buf - 1, 0);
+    std::string who = n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
+    while (!who.empty() && std::isspace(static_cast<unsigned char>(who.back())))
+      who.pop_back();
+    if (holder)
+      *holder = who.empty() ? "" : " (" + who + ")";
+    ::close(fd);
+    return false;
+  }
+  std::string me = "runner " + host_name() + ":" + std::to_string(getpid()) + ", attempt " +
+                   std::to_string(t.attempt) + "\n";
+  if (::ftruncate(fd, 0) == 0 && ::pwrite(fd, me.data(), me.size(), 0) < 0) {
+    // the holder's name is informative only
+  }
+  t.lock_fd = fd;
+  return true;
+}
+
+// Removes the lock file while still holding the lock (so an empty folder can be removed).
+void unlink_folder_lock(const Task& t) {
+  if (t.lock_fd >= 0)
+    ::unlink((t.output_dir / folder_lock_name).c_str());
+}
+
+void release_folder_lock(Task& t) {
+  if (t.lock_fd >= 0)
+    ::close(t.lock_fd);
+  t.lock_fd = -1;
+}
+
+// The owner of a job on this host is alive: its pid runs, and (when /proc says) it is a process
+// of the same program, not an unrelated one that reused the pid of a dead runner.
+bool owner_alive(int pid) {
+  if (!pid_alive(pid))
+    return false;
+  auto comm = [](const std::string& p) {
+    std::ifstream in("/proc/" + p + "/comm");
+    std::string s;
+    std::getline(in, s);
+    return s;
+  };
+  std::string theirs = comm(std::to_string(pid)), ours = comm("self");
+  return theirs.empty() || ours.empty() || theirs == ours;
+}
 
 struct Outcome {
   Task task;
@@ -239,7 +303,7 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
 }
 
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err) {
-  Expansion ex = expand(study, opts.tier);
+  Expansion ex = expand(study, opts.tier, opts.max_jobs);
   const std::string tier = ex.tier;
   const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
 
@@ -262,40 +326,65 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           fixed += " " + k + "=" + format_value_plain(v);
       out << "fixed:" << fixed << "\n";
     }
+    std::string lines;
     for (const auto& j : ex.jobs) {
       auto it = states.find(j.key);
       char st[16];
       std::snprintf(st, sizeof st, "%-8s", it == states.end() ? "new" : it->second.c_str());
-      out << st << " " << label_of(j, ex.varying) << "\n";
+      lines += st;
+      lines += ' ';
+      lines += label_of(j, ex.varying);
+      lines += '\n';
+      if (lines.size() > (1u << 16)) {
+        out << lines;
+        lines.clear();
+      }
     }
+    out << lines;
     return 0;
   }
 
+  // SIGINT, SIGTERM, SIGHUP (closed terminal) and SIGPIPE (`runner ... | head`) stop the run
+  // cleanly from here on: no new claims, running jobs stopped and put back to pending.
+  SignalGuard guard;
   const std::string host = host_name();
   const int pid = static_cast<int>(getpid());
+  const std::string fingerprint = solver_fingerprint();
   Store store = Store::open_write(opts.db_path, opts.allow_network_fs);
-  auto stale = store.reset_stale(host, pid, unix_now(), opts.stale_after_s, pid_alive);
-  if (!stale.empty()) {
-    out << "recovered " << stale.size() << " job(s) left running by a dead runner:";
-    for (std::size_t i = 0; i < stale.size() && i < 5; ++i)
-      out << "\n  " << stale[i].key.substr(0, 12) << " " << stale[i].reason;
-    out << "\n";
-    Stmt q = store.db().prepare("PRAGMA quick_check");
-    if (q.step() && q.text(0) != "ok")
-      err << "warning: database integrity check after an unclean shutdown: " << q.text(0) << "\n";
-  }
+  const std::string db_name = opts.db_path.string();
+  // Any SQLite error from here on names the database (disk full, I/O error, locked too long).
+  auto db_error = [&](const std::exception& e) {
+    return std::runtime_error("database '" + db_name + "': " + e.what());
+  };
+  SyncReport sync;
+  std::size_t stale_kept = 0, stale_requeued = 0;
+  try {
+    auto stale = store.reset_stale(host, pid, unix_now(), opts.stale_after_s, owner_alive);
+    if (!stale.empty()) {
+      out << "recovered " << stale.size() << " job(s) left running by a dead runner:";
+      for (std::size_t i = 0; i < stale.size() && i < 5; ++i)
+        out << "\n  " << stale[i].key.substr(0, 12) << " " << stale[i].reason;
+      out << "\n";
+      Stmt q = store.db().prepare("PRAGMA quick_check");
+      if (q.step() && q.text(0) != "ok")
+        err << "warning: database integrity check after an unclean shutdown: " << q.text(0) << "\n";
+    }
 
-  if (store.db().scalar_int("SELECT count(*) FROM jobs WHERE state='submitted'") > 0) {
-    IngestReport ing = ingest_slurm(store, out);
-    if (ing.ingested || ing.lost || ing.waiting)
-      out << "Slurm: ingested " << ing.ingested << " finished job(s), " << ing.lost
-          << " lost (pending again), " << ing.waiting << " still submitted\n";
-  }
+    if (store.db().scalar_int("SELECT count(*) FROM jobs WHERE state='submitted'") > 0) {
+      IngestReport ing = ingest_slurm(store, out);
+      if (ing.ingested || ing.lost || ing.waiting)
+        out << "Slurm: ingested " << ing.ingested << " finished job(s), " << ing.lost
+            << " lost (pending again), " << ing.waiting << " still submitted\n";
+    }
 
-  StudyRecord rec{study.name, study.case_name, study.description,
-                  fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
-  SyncReport sync =
-      store.sync_study(rec, tier, ex.jobs, opts.retry_failed, opts.max_attempts, unix_now());
+    sync = store.register_expansion(study, ex, opts.retry_failed, opts.max_attempts,
+                                    opts.rerun_stale, fingerprint);
+    stale_requeued = sync.stale_requeued;
+    stale_kept = sync.stale_kept;
+    store.checkpoint_wal(false);
+  } catch (const SqliteError& e) {
+    throw db_error(e);
+  }
 
   std::map<std::string, std::size_t> counts;
   std::vector<const JobRow*> todo;
@@ -315,6 +404,12 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   if (sync.inserted)
     out << " (" << sync.inserted << " new)";
   out << "\n";
+  if (stale_kept)
+    out << "note: " << stale_kept << " finished job(s) are stale: made by other solver code "
+        << "(fingerprint differs from this build's " << fingerprint
+        << "); kept as they are, --rerun-stale recomputes them\n";
+  if (stale_requeued)
+    out << "recomputing " << stale_requeued << " stale job(s) (--rerun-stale)\n";
   if (sync.requeued)
     out << "retrying " << sync.requeued << " failed job(s)\n";
   if (sync.exhausted)
@@ -334,16 +429,45 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       opts.db_path.parent_path().empty() ? fs::path(".") : opts.db_path.parent_path();
   const fs::path scratch_base = db_dir / ".runner";
   const fs::path scratch = scratch_base / (host + "-" + std::to_string(pid));
-  std::size_t ran = 0, interrupted = 0, lost = 0;
+  std::size_t ran = 0, interrupted = 0, lost = 0, busy = 0;
   std::vector<std::string> failures;
   auto t_start = std::chrono::steady_clock::now();
 
-  if (!todo.empty()) {
+  if (!todo.empty() && g_stop.load() == 0) {
     clean_dead_scratch(scratch_base, host);
     fs::create_directories(scratch);
-    SignalGuard guard;
     Channel ch;
     std::vector<std::thread> workers;
+    std::map<std::int64_t, Task> running;
+    // Stops the pool whatever happens below (an SQLite error, a full disk): the workers' job
+    // processes are stopped, the threads joined, and the running jobs given back when the
+    // database still takes a write (otherwise the next run recovers them: their owner is gone).
+    auto stop_pool = [&](const std::string& reason) {
+      g_stop.fetch_add(1);
+      ch.close();
+      for (auto& w : workers)
+        if (w.joinable())
+          w.join();
+      for (Outcome& o : ch.wait_outcomes(std::chrono::milliseconds(0))) {
+        try {
+          store.release(o.task.job_id, o.task.attempt, host, pid, reason, unix_now());
+        } catch (const std::exception&) {
+        }
+        running.erase(o.task.job_id);
+      }
+      for (auto& [id, t] : running) {
+        try {
+          store.release(id, t.attempt, host, pid, reason, unix_now());
+        } catch (const std::exception&) {
+        }
+      }
+      for (auto& [id, t] : running)
+        release_folder_lock(t);
+      running.clear();
+      std::error_code ec;
+      fs::remove_all(scratch, ec);
+      fs::remove(scratch_base, ec);
+    };
     for (std::size_t w = 0; w < n_workers; ++w)
       workers.emplace_back([&] {
         while (auto t = ch.pop_task()) {
@@ -362,150 +486,192 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     Progress progress(out, live, todo.size(), n_workers);
     progress.set_width(terminal_columns());
     progress.set_log_every_s(opts.log_every_s);
-    {
-      // Mean wall time of this study's earlier finished attempts: the ETA before a job finishes.
-      Stmt q = store.db().prepare(
-          "SELECT avg(a.wall_s) FROM attempts a WHERE a.state IN ('done','diverged') AND "
-          "a.wall_s IS NOT NULL AND a.job_id IN (SELECT job_id FROM study_jobs WHERE "
-          "study_id=? AND tier=?)");
-      q.bind(1, sync.study_id).bind(2, tier);
-      if (q.step() && !q.is_null(0))
-        progress.set_prior_job_s(q.real(0));
-    }
-    AttemptStart start{host, pid, opts.threads_per_job, code_version(), compiler_id(), 0};
-    std::map<std::int64_t, Task> running;
-    std::size_t next = 0;
-    auto last_heartbeat = std::chrono::steady_clock::now();
-
-    for (;;) {
-      while (g_stop.load() == 0 && running.size() < n_workers && next < todo.size()) {
-        const JobRow& row = *todo[next++];
-        start.started_at = unix_now();
-        auto attempt = store.claim(row.id, start);
-        if (!attempt)
-          continue; // another runner took it
-        const JobSpec& job = ex.jobs[row.ordinal];
-        Task t;
-        t.index = row.ordinal;
-        t.job_id = row.id;
-        t.attempt = *attempt;
-        std::string stem = job.key + "." + std::to_string(*attempt);
-        t.spec = scratch / (stem + ".spec.json");
-        t.result = scratch / (stem + ".result.json");
-        t.log = scratch / (stem + ".log");
-        t.progress = scratch / (stem + ".progress");
-        t.output_dir = db_dir / study.name / job.key;
-        JobFileSpec spec{job.key,
-                         job.case_name,
-                         job.scheme,
-                         job.params,
-                         opts.threads_per_job,
-                         *attempt,
-                         t.output_dir.string(),
-                         t.progress.string(),
-                         opts.checkpoint_every_steps,
-                         opts.checkpoint_every_s};
-        try {
-          fs::create_directories(t.output_dir);
-          write_file_atomic(t.spec, spec_to_json(spec));
-        } catch (const std::exception& e) {
-          Finish f;
-          f.state = "failed";
-          f.failure_class = "spawn";
-          f.finished_at = unix_now();
-          f.error_text = std::string("cannot prepare the job: ") + e.what();
-          store.finish(row.id, *attempt, host, pid, f);
-          progress.finished("failed", label_of(job, ex.varying), f.error_text);
-          failures.push_back(label_of(job, ex.varying) + ": " + f.error_text);
-          continue;
-        }
-        running.emplace(row.id, t);
-        ch.push_task(std::move(t));
-      }
-      progress.set_running(running.size());
-      if (running.empty() && (next >= todo.size() || g_stop.load() > 0))
-        break;
-
-      for (Outcome& o : ch.wait_outcomes(std::chrono::milliseconds(100))) {
-        running.erase(o.task.job_id);
-        const JobSpec& job = ex.jobs[o.task.index];
-        std::string label = label_of(job, ex.varying);
-        std::error_code ec;
-        bool cancelled_result = false;
-        if (g_stop.load() > 0 && o.child.stopped) {
-          try {
-            auto r = read_result_file(o.task.result);
-            cancelled_result = !r || r->status == "cancelled" || r->status == "failed";
-          } catch (...) {
-            cancelled_result = true;
-          }
-        }
-        if (cancelled_result) {
-          store.release(o.task.job_id, o.task.attempt, host, pid,
-                        "interrupted: the runner received " + signal_description(g_signal.load()),
-                        unix_now());
-          ++interrupted;
-        } else {
-          std::string first_metric;
-          Finish f = outcome_to_finish(o.child, o.task.result, o.task.log, opts.timeout_s);
-          if (!f.metrics.empty())
-            first_metric = f.metrics.front().first + "=" + short_number(f.metrics.front().second);
-          bool kept_output = !is_empty_dir(o.task.output_dir);
-          if (kept_output)
-            f.output_dir = o.task.output_dir.string();
-          else
-            fs::remove(o.task.output_dir, ec);
-          if (f.state != "done" && f.state != "diverged") {
-            // Keep the full output of a failed attempt next to its outputs.
-            fs::create_directories(o.task.output_dir, ec);
-            fs::path kept =
-                o.task.output_dir / ("attempt-" + std::to_string(o.task.attempt) + ".log");
-            fs::rename(o.task.log, kept, ec);
-            if (!ec)
-              f.error_text += "\n(full output: " + kept.string() + ")";
-          }
-          if (!store.finish(o.task.job_id, o.task.attempt, host, pid, f)) {
-            ++lost;
-            err << "warning: job " << job.key.substr(0, 12)
-                << " was taken over by another runner; its result was discarded\n";
-          }
-          ++ran;
-          std::string detail = short_number(o.child.wall_s) + " s";
-          if (!first_metric.empty())
-            detail += "  " + first_metric;
-          if (f.state == "diverged" && !f.message.empty())
-            detail += "  " + f.message;
-          if (f.state != "done" && f.state != "diverged") {
-            std::string first_line = f.error_text.substr(0, f.error_text.find('\n'));
-            detail += "  " + first_line;
-            failures.push_back(label + ": " + first_line);
-          }
-          progress.finished(f.state, label, detail, o.child.wall_s);
-        }
-        fs::remove(o.task.spec, ec);
-        fs::remove(o.task.result, ec);
-        fs::remove(o.task.log, ec);
-        fs::remove(o.task.progress, ec);
-      }
-      progress.set_running(running.size());
+    try {
       {
-        // Each running job's simulated-time fraction, as its worker last wrote it (<= 1/s).
-        std::vector<std::pair<std::string, double>> fr;
-        for (const auto& [id, t] : running)
-          if (auto x = read_progress(t.progress))
-            fr.emplace_back(ex.jobs[t.index].key.substr(0, 8), *x);
-        progress.set_fractions(std::move(fr));
+        // Mean wall time of this study's earlier finished attempts: the ETA before a job finishes.
+        Stmt q = store.db().prepare(
+            "SELECT avg(a.wall_s) FROM attempts a WHERE a.state IN ('done','diverged') AND "
+            "a.wall_s IS NOT NULL AND a.job_id IN (SELECT job_id FROM study_jobs WHERE "
+            "study_id=? AND tier=?)");
+        q.bind(1, sync.study_id).bind(2, tier);
+        if (q.step() && !q.is_null(0))
+          progress.set_prior_job_s(q.real(0));
       }
-      progress.tick();
+      AttemptStart start{host,          pid, opts.threads_per_job, code_version(),
+                         compiler_id(), 0,   fingerprint};
+      std::size_t next = 0;
+      auto last_heartbeat = std::chrono::steady_clock::now();
+      auto last_checkpoint = last_heartbeat;
 
-      auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - last_heartbeat).count() >= opts.heartbeat_s) {
-        last_heartbeat = now;
-        std::vector<std::pair<std::int64_t, std::optional<double>>> hb;
-        for (const auto& [id, t] : running)
-          hb.emplace_back(id, read_progress(t.progress));
-        store.heartbeat(hb, host, pid, unix_now());
+      for (;;) {
+        while (g_stop.load() == 0 && running.size() < n_workers && next < todo.size()) {
+          const JobRow& row = *todo[next++];
+          start.started_at = unix_now();
+          auto attempt = store.claim(row.id, start);
+          if (!attempt)
+            continue; // another runner took it
+          const JobSpec& job = ex.jobs[row.ordinal];
+          Task t;
+          t.index = row.ordinal;
+          t.job_id = row.id;
+          t.attempt = *attempt;
+          std::string stem = job.key + "." + std::to_string(*attempt);
+          t.spec = scratch / (stem + ".spec.json");
+          t.result = scratch / (stem + ".result.json");
+          t.log = scratch / (stem + ".log");
+          t.progress = scratch / (stem + ".progress");
+          t.output_dir = db_dir / study.name / job.key;
+          JobFileSpec spec{job.key,
+                           job.case_name,
+                           job.scheme,
+                           job.params,
+                           opts.threads_per_job,
+                           *attempt,
+                           t.output_dir.string(),
+                           t.progress.string(),
+                           opts.checkpoint_every_steps,
+                           opts.checkpoint_every_s};
+          std::string holder;
+          try {
+            fs::create_directories(t.output_dir);
+            if (!take_folder_lock(t, &holder)) {
+              // Another attempt (a runner that was stopped, or on another host sharing this
+              // folder) still works in the job's folder: never two attempts in one folder.
+              store.release(row.id, *attempt, host, pid,
+                            "interrupted: the job's output folder " + t.output_dir.string() +
+                                " is in use by another attempt" + holder,
+                            unix_now());
+              ++busy;
+              err << "warning: job " << job.key.substr(0, 12) << ": its output folder is in use "
+                  << "by another attempt" << holder << "; left pending\n";
+              continue;
+            }
+            write_file_atomic(t.spec, spec_to_json(spec));
+          } catch (const SqliteError&) {
+            release_folder_lock(t);
+            throw;
+          } catch (const std::exception& e) {
+            release_folder_lock(t);
+            Finish f;
+            f.state = "failed";
+            f.failure_class = "spawn";
+            f.finished_at = unix_now();
+            f.error_text = std::string("cannot prepare the job: ") + e.what();
+            store.finish(row.id, *attempt, host, pid, f);
+            progress.finished("failed", label_of(job, ex.varying), f.error_text);
+            failures.push_back(label_of(job, ex.varying) + ": " + f.error_text);
+            continue;
+          }
+          running.emplace(row.id, t);
+          ch.push_task(std::move(t));
+        }
+        progress.set_running(running.size());
+        if (running.empty() && (next >= todo.size() || g_stop.load() > 0))
+          break;
+
+        for (Outcome& o : ch.wait_outcomes(std::chrono::milliseconds(100))) {
+          const JobSpec& job = ex.jobs[o.task.index];
+          std::string label = label_of(job, ex.varying);
+          std::error_code ec;
+          bool cancelled_result = false;
+          if (g_stop.load() > 0 && o.child.stopped) {
+            try {
+              auto r = read_result_file(o.task.result);
+              cancelled_result = !r || r->status == "cancelled" || r->status == "failed";
+            } catch (...) {
+              cancelled_result = true;
+            }
+          }
+          if (cancelled_result) {
+            store.release(o.task.job_id, o.task.attempt, host, pid,
+                          "interrupted: the runner received " + signal_description(g_signal.load()),
+                          unix_now());
+            ++interrupted;
+          } else {
+            std::string first_metric;
+            Finish f = outcome_to_finish(o.child, o.task.result, o.task.log, opts.timeout_s);
+            if (!f.metrics.empty())
+              first_metric = f.metrics.front().first + "=" + short_number(f.metrics.front().second);
+            unlink_folder_lock(o.task);
+            bool kept_output = !is_empty_dir(o.task.output_dir);
+            if (kept_output)
+              f.output_dir = o.task.output_dir.string();
+            else
+              fs::remove(o.task.output_dir, ec);
+            if (f.state != "done" && f.state != "diverged") {
+              // Keep the full output of a failed attempt next to its outputs.
+              fs::create_directories(o.task.output_dir, ec);
+              fs::path kept =
+                  o.task.output_dir / ("attempt-" + std::to_string(o.task.attempt) + ".log");
+              fs::rename(o.task.log, kept, ec);
+              if (!ec)
+                f.error_text += "\n(full output: " + kept.string() + ")";
+            }
+            if (!store.finish(o.task.job_id, o.task.attempt, host, pid, f)) {
+              ++lost;
+              err << "warning: job " << job.key.substr(0, 12)
+                  << " was taken over by another runner; its result was discarded\n";
+            }
+            ++ran;
+            std::string detail = short_number(o.child.wall_s) + " s";
+            if (!first_metric.empty())
+              detail += "  " + first_metric;
+            if (f.state == "diverged" && !f.message.empty())
+              detail += "  " + f.message;
+            if (f.state != "done" && f.state != "diverged") {
+              std::string first_line = f.error_text.substr(0, f.error_text.find('\n'));
+              detail += "  " + first_line;
+              failures.push_back(label + ": " + first_line);
+            }
+            progress.finished(f.state, label, detail, o.child.wall_s);
+          }
+          release_folder_lock(o.task);
+          running.erase(o.task.job_id);
+          fs::remove(o.task.spec, ec);
+          fs::remove(o.task.result, ec);
+          fs::remove(o.task.log, ec);
+          fs::remove(o.task.progress, ec);
+        }
+        progress.set_running(running.size());
+        {
+          // Each running job's simulated-time fraction, as its worker last wrote it (<= 1/s).
+          std::vector<std::pair<std::string, double>> fr;
+          for (const auto& [id, t] : running)
+            if (auto x = read_progress(t.progress))
+              fr.emplace_back(ex.jobs[t.index].key.substr(0, 8), *x);
+          progress.set_fractions(std::move(fr));
+        }
+        progress.tick();
+
+        auto now = std::chrono::steady_clock::now();
+        if (std::chrono::duration<double>(now - last_heartbeat).count() >= opts.heartbeat_s) {
+          last_heartbeat = now;
+          std::vector<std::pair<std::int64_t, std::optional<double>>> hb;
+          for (const auto& [id, t] : running)
+            hb.emplace_back(id, read_progress(t.progress));
+          store.heartbeat(hb, host, pid, unix_now());
+        }
+        if (std::chrono::duration<double>(now - last_checkpoint).count() >= 30) {
+          last_checkpoint = now;
+          store.checkpoint_wal(false); // keeps the -wal file small during a long sweep
+        }
       }
+    } catch (const std::exception& e) {
+      progress.close();
+      const bool sqlite = dynamic_cast<const SqliteError*>(&e) != nullptr;
+      const std::size_t n_running = running.size();
+      stop_pool(std::string("interrupted: the runner stopped on an error: ") + e.what());
+      std::string what = sqlite ? "database '" + db_name + "': " + e.what() : e.what();
+      throw std::runtime_error(
+          what + "; the sweep stopped" +
+          (n_running ? " (" + std::to_string(n_running) +
+                           " running job(s) stopped: put back to pending, or recovered by the "
+                           "next run)"
+                     : std::string()) +
+          "; every result recorded before is kept" +
+          (sqlite && (dynamic_cast<const SqliteError&>(e).code() & 0xff) == SQLITE_FULL
+               ? "; free space on the disk that holds '" + db_name + "' and run again"
+               : std::string()));
     }
     ch.close();
     for (auto& w : workers)
@@ -518,7 +684,13 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   }
 
   // Summary from the store: the state of every job of the study (tier).
-  auto final_counts = store.state_counts(sync.study_id, tier);
+  std::map<std::string, std::size_t> final_counts;
+  try {
+    final_counts = store.state_counts(sync.study_id, tier);
+    store.checkpoint_wal(true);
+  } catch (const SqliteError& e) {
+    throw db_error(e);
+  }
   double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   out << title << ": " << ex.jobs.size() << " jobs:";
@@ -541,7 +713,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         << " running job(s) put back to pending; run again to resume\n";
     return 128 + (sig ? sig : SIGINT);
   }
-  if (lost)
+  if (lost || busy)
     return 1;
   bool any_failed = final_counts.count("failed") || final_counts.count("timeout");
   return any_failed ? 1 : 0;

@@ -3,6 +3,7 @@
 // (`runner job`), and records every outcome in one transaction per job.
 #pragma once
 
+#include "expand.hpp"
 #include "study.hpp"
 
 #include <filesystem>
@@ -32,6 +33,10 @@ struct RunOptions {
   // in the job's output directory, which is kept across attempts so a re-run resumes.
   std::int64_t checkpoint_every_steps = 0;
   double checkpoint_every_s = 600;
+  // Recompute finished jobs whose solver fingerprint differs from this build's (stale).
+  bool rerun_stale = false;
+  // Refuse a study (tier) that expands to more jobs than this, before expanding it.
+  std::size_t max_jobs = default_max_jobs;
 };
 
 struct Finish;

@@ -7,7 +7,9 @@
 #include "params.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <set>
@@ -211,6 +213,18 @@ private:
   }
 };
 
+// `text` names `word` as a whole identifier.
+bool mentions(const std::string& text, const std::string& word) {
+  auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (auto pos = text.find(word); pos != std::string::npos; pos = text.find(word, pos + 1)) {
+    bool left = pos == 0 || !ident(text[pos - 1]);
+    bool right = pos + word.size() >= text.size() || !ident(text[pos + word.size()]);
+    if (left && right)
+      return true;
+  }
+  return false;
+}
+
 bool matches(const Params& p, const Exclude& e) {
   for (const auto& a : e.match) {
     auto it = p.find(a.name);
@@ -222,20 +236,26 @@ bool matches(const Params& p, const Exclude& e) {
 
 } // namespace
 
-JobSpec make_job(const Study& study, Params params) {
+JobSpec make_job(const Study& study, Params params, const std::vector<ParamSpec>& specs) {
   JobSpec job;
   job.case_name = study.case_name;
   if (auto it = params.find(scheme_param); it != params.end())
     job.scheme = std::get<std::string>(it->second);
-  auto ident = identity_params_json(job_specs(*study.info, job.scheme), params);
-  job.params_json = ident.dump();
-  job.canonical = canonical_job_json(job.case_name, job.scheme, ident, numerics_version);
+  job.params_json = identity_params_json(specs, params).dump();
+  job.canonical = canonical_job_text(job.case_name, job.scheme, job.params_json, numerics_version);
   job.key = job_key(job.canonical);
   job.params = std::move(params);
   return job;
 }
 
-Expansion expand(const Study& study, const std::string& tier_name) {
+JobSpec make_job(const Study& study, Params params) {
+  std::string scheme;
+  if (auto it = params.find(scheme_param); it != params.end())
+    scheme = std::get<std::string>(it->second);
+  return make_job(study, std::move(params), job_specs(*study.info, scheme));
+}
+
+Expansion expand(const Study& study, const std::string& tier_name, std::size_t max_jobs) {
   Diagnostics diag(study.file);
   Expansion out;
   const Tier* tier = nullptr;
@@ -289,6 +309,7 @@ Expansion expand(const Study& study, const std::string& tier_name) {
 
   Expander ex(study, diag);
   std::map<std::string, std::vector<ParamSpec>> specs_by_scheme;
+  std::map<std::string, Params> defaults_by_scheme;
   const CaseInfo& info = *study.info;
   // A job's full parameter set from its explicit values: its scheme's specs, defaults, derived.
   auto build = [&](const Params& given, int origin_line) -> std::optional<Params> {
@@ -310,19 +331,41 @@ Expansion expand(const Study& study, const std::string& tier_name) {
                       "' that some jobs use; set it per scheme with [[zip]] or [[cases]]");
         return std::nullopt;
       }
-    Params p;
-    for (const auto& sp : specs)
-      p[sp.name] = sp.default_value;
+    auto [dit, fresh_defaults] = defaults_by_scheme.try_emplace(scheme);
+    if (fresh_defaults)
+      for (const auto& sp : specs)
+        dit->second[sp.name] = sp.default_value;
+    Params p = dit->second;
     for (const auto& [k, v] : given)
       p[k] = v;
     if (!ex.resolve(p, derived, specs, scheme))
       return std::nullopt;
+    if (info.check)
+      if (auto bad = info.check(p)) {
+        // Name the line of a parameter the case's message mentions (dx in "1/dx must be...").
+        int line = origin_line;
+        for (const auto& [name, at] : set_at)
+          if (mentions(*bad, name)) {
+            line = at;
+            break;
+          }
+        ex.report(line, "case '" + info.name + "'" +
+                            (scheme.empty() ? std::string() : " (scheme '" + scheme + "')") + ": " +
+                            *bad);
+        return std::nullopt;
+      }
     return p;
   };
 
   std::unordered_set<std::string> keys;
   auto add = [&](Params p) {
-    JobSpec job = make_job(study, std::move(p));
+    std::string scheme;
+    if (auto it = p.find(scheme_param); it != p.end())
+      scheme = std::get<std::string>(it->second);
+    auto [sit, fresh] = specs_by_scheme.try_emplace(scheme);
+    if (fresh)
+      sit->second = job_specs(info, scheme);
+    JobSpec job = make_job(study, std::move(p), sit->second);
     if (!keys.insert(job.key).second) {
       ++out.duplicates;
       return;
@@ -330,11 +373,43 @@ Expansion expand(const Study& study, const std::string& tier_name) {
     out.jobs.push_back(std::move(job));
   };
 
-  // With no axes the product is the single base job, unless explicit cases replace it.
+  // With no axes the product is the single base job, unless explicit cases replace it. Counted
+  // before anything is expanded (in long double: 1e18 jobs must not wrap around).
   std::size_t total = dims.empty() && !def.cases.empty() ? 0 : 1;
+  {
+    long double count = static_cast<long double>(total);
+    std::string factors;
+    int line = 0;
+    std::size_t largest = 0;
+    auto factor = [&](std::size_t n, int at, const std::string& what) {
+      count *= static_cast<long double>(n);
+      factors += (factors.empty() ? "" : " x ") + std::to_string(n) + " (" + what + ")";
+      if (n > largest)
+        largest = n, line = at;
+    };
+    for (const auto& ax : def.sweep)
+      factor(ax.values.size(), ax.line, ax.name);
+    for (const auto& g : def.zip)
+      factor(g.length(), g.line, "zip group");
+    count += static_cast<long double>(def.cases.size());
+    if (count > static_cast<long double>(max_jobs)) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, count < 1e15L ? "%.0Lf" : "%.3Le", count);
+      diag.error(
+          line,
+          std::string("the study") + (tier ? " (tier '" + tier->name + "')" : std::string()) +
+              " expands to " + buf + " jobs" + (factors.empty() ? "" : " = " + factors) +
+              (def.cases.empty() ? "" : " + " + std::to_string(def.cases.size()) + " [[cases]]") +
+              ", more than the limit of " + std::to_string(max_jobs) +
+              "; sweep fewer values, or raise the limit with --max-jobs N");
+      diag.throw_if_any();
+    }
+  }
   for (const auto& d : dims)
     total *= d.size();
   out.combinations = total;
+  out.jobs.reserve(total + def.cases.size());
+  keys.reserve(total + def.cases.size());
   std::vector<std::size_t> idx(dims.size(), 0);
   for (std::size_t n = 0; n < total && diag.size() < 25; ++n) {
     Params given = fixed;

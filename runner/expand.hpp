@@ -29,11 +29,19 @@ struct Expansion {
   std::vector<std::string> varying; // parameters whose value differs between jobs
 };
 
+// Studies (tiers) larger than this are refused before they are expanded (--max-jobs raises it).
+inline constexpr std::size_t default_max_jobs = 1000000;
+
 // tier: "" or "full" for the study itself, else the name of a [tiers.NAME].
-// Throws StudyError naming the line of the item at fault.
-Expansion expand(const Study& study, const std::string& tier = "");
+// Throws StudyError naming the line of the item at fault. The number of jobs is counted first
+// (product of the axes and zip groups, plus the explicit cases): more than max_jobs is an error
+// naming the line of the largest axis and the count, and nothing is expanded.
+Expansion expand(const Study& study, const std::string& tier = "",
+                 std::size_t max_jobs = default_max_jobs);
 
 // Builds a JobSpec (key, canonical JSON) from resolved params.
 JobSpec make_job(const Study& study, Params params);
+// Same, with the job's specs (job_specs of its scheme) already at hand.
+JobSpec make_job(const Study& study, Params params, const std::vector<ParamSpec>& specs);
 
 } // namespace sph::runner

@@ -90,7 +90,22 @@ private:
         return lhs;
     }
   }
+  // Nesting (parentheses, unary signs, powers, calls) is bounded, so that a hostile expression
+  // cannot overflow the stack of the parser, the evaluator or the tree's destructor.
+  static constexpr int max_depth = 100;
+  struct Depth {
+    Parser& p;
+    explicit Depth(Parser& parser) : p(parser) {
+      if (++p.depth_ > max_depth)
+        p.fail("expression nested more than " + std::to_string(max_depth) +
+               " levels deep (parentheses, signs, powers, calls)");
+    }
+    ~Depth() { --p.depth_; }
+  };
+  int depth_ = 0;
+
   NodeP unary() {
+    Depth guard(*this);
     skip();
     auto pos = i_;
     if (eat('-'))
@@ -243,6 +258,12 @@ double eval_node(const Expr::Node& n, const Expr::Lookup& lookup) {
 } // namespace
 
 Expr Expr::parse(const std::string& text) {
+  // A long chain (1+1+...+1) nests the tree without nesting the text: bounded by the length.
+  constexpr std::size_t max_length = 4000;
+  if (text.size() > max_length)
+    throw ExprError("expression of " + std::to_string(text.size()) + " characters; at most " +
+                        std::to_string(max_length) + " are allowed",
+                    max_length);
   Expr e;
   e.text_ = text;
   Parser p(e.text_, e.names_);

@@ -34,6 +34,16 @@ nlohmann::json identity_params_json(const std::vector<ParamSpec>& specs, const P
     if (s.type == ParamType::Real)
       if (auto i = std::get_if<std::int64_t>(&v))
         v = static_cast<double>(*i);
+    if (s.neutral_default) {
+      // At its declared neutral default the parameter leaves the key as it was before the
+      // parameter existed (the finished jobs of the case keep their keys).
+      ParamValue d = s.default_value;
+      if (s.type == ParamType::Real)
+        if (auto i = std::get_if<std::int64_t>(&d))
+          d = static_cast<double>(*i);
+      if (v == d)
+        continue;
+    }
     j[s.name] = value_to_json(v);
   }
   return j;
@@ -44,6 +54,16 @@ nlohmann::json all_params_json(const Params& params) {
   for (const auto& [k, v] : params)
     j[k] = value_to_json(v);
   return j;
+}
+
+std::string canonical_job_text(const std::string& case_name, const std::string& scheme,
+                               const std::string& identity_params_text, int numerics) {
+  // Exactly what canonical_job_json dumps (keys sorted: case, numerics_version, params, scheme;
+  // compact), without building a second JSON tree per job.
+  return "{\"case\":" + nlohmann::json(case_name).dump() +
+         ",\"numerics_version\":" + std::to_string(numerics) +
+         ",\"params\":" + identity_params_text + ",\"scheme\":" + nlohmann::json(scheme).dump() +
+         "}";
 }
 
 std::string canonical_job_json(const std::string& case_name, const std::string& scheme,

@@ -23,6 +23,10 @@ nlohmann::json all_params_json(const Params& params);
 std::string canonical_job_json(const std::string& case_name, const std::string& scheme,
                                const nlohmann::json& identity_params, int numerics);
 
+// The same text from the identity parameters already dumped (identity_params_json(...).dump()).
+std::string canonical_job_text(const std::string& case_name, const std::string& scheme,
+                               const std::string& identity_params_text, int numerics);
+
 std::string job_key(const std::string& canonical_json);
 
 } // namespace sph::runner

@@ -12,12 +12,58 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <set>
 #include <string>
 #include <vector>
 
 using namespace sph::runner;
+
+namespace {
+
+// A real option value: a finite number >= lo (> lo when exclusive), or a message saying what is
+// allowed. CLI11's number checks let "nan" through (every comparison with NaN is false).
+CLI::Validator finite_number(double lo, bool exclusive, const std::string& also = "") {
+  return CLI::Validator(
+      [=](std::string& s) -> std::string {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%g", lo);
+        const std::string allowed = std::string("a finite number ") + (exclusive ? "> " : ">= ") +
+                                    buf + " (seconds)" + also;
+        char* end = nullptr;
+        double x = std::strtod(s.c_str(), &end);
+        if (s.empty() || !end || *end != 0)
+          return "'" + s + "' is not a number; expected " + allowed;
+        if (!std::isfinite(x) || (exclusive ? x <= lo : x < lo))
+          return "'" + s + "' is not allowed; expected " + allowed;
+        return "";
+      },
+      "NUMBER");
+}
+
+// An integer option value in [lo, hi], or a message saying what is allowed.
+CLI::Validator integer_in(long long lo, long long hi) {
+  return CLI::Validator(
+      [=](std::string& s) -> std::string {
+        const std::string allowed =
+            "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+        errno = 0;
+        char* end = nullptr;
+        long long x = std::strtoll(s.c_str(), &end, 10);
+        if (s.empty() || !end || *end != 0 || errno == ERANGE)
+          return "'" + s + "' is not an integer; expected " + allowed;
+        if (x < lo || x > hi)
+          return "'" + s + "' is out of range; expected " + allowed;
+        return "";
+      },
+      "INT");
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
   // A positional study file and subcommands clash in CLI11: treat `runner STUDY.toml ...` as
@@ -34,6 +80,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", code_version());
   const std::string default_db = "results/results.sqlite";
+  // More OpenMP threads than this in one job is a typo (each job crashed at 100,000).
+  const long long max_threads_per_job = 1024;
 
   RunOptions ro;
   std::string study_file, db_run = default_db;
@@ -42,28 +90,38 @@ int main(int argc, char** argv) {
   run->add_option("study", study_file, "Study file (TOML)")->required();
   run->add_option("--db", db_run, "Database file")->capture_default_str();
   run->add_option("-j,--jobs", ro.jobs, "Jobs run in parallel (default: number of cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 4096));
   run->add_option("--tier", ro.tier, "Run a tier of the study ([tiers.NAME])");
   run->add_option("--threads-per-job", ro.threads_per_job, "OpenMP threads of each job")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  run->add_option("--timeout", timeout, "Wall-clock limit per job in seconds (0: none)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(1, max_threads_per_job));
+  run->add_option("--timeout", timeout, "Wall-clock limit per job in seconds (omit: none)")
+      ->check(finite_number(0, true, "; omit --timeout for no limit"));
   run->add_flag("--retry-failed", ro.retry_failed, "Re-run failed, diverged and timed-out jobs");
   run->add_option("--max-attempts", ro.max_attempts,
                   "With --retry-failed, leave jobs that failed this many times")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(integer_in(1, 1000000));
+  run->add_flag("--rerun-stale", ro.rerun_stale,
+                "Recompute finished jobs made by other solver code (stale; see runner status)");
+  run->add_option("--max-jobs", ro.max_jobs,
+                  "Refuse a study that expands to more jobs than this (counted before expanding)")
+      ->capture_default_str()
+      ->check(integer_in(1, 1000000000000LL));
   run->add_option("--checkpoint-every-steps", ro.checkpoint_every_steps,
                   "Jobs that support checkpoints save one every N steps (0: off)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1000000000000000LL));
   run->add_option("--checkpoint-every-s", ro.checkpoint_every_s,
                   "... and every S seconds of wall clock (0: off)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_number(0, false, "; 0: off"));
   run->add_option("--heartbeat-s", ro.heartbeat_s, "Heartbeat/progress interval (tests)")
       ->group("")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_number(0, true));
+  run->add_option("--stale-after-s", ro.stale_after_s,
+                  "Heartbeat age after which a job of another host is abandoned (tests)")
+      ->group("")
+      ->check(finite_number(0, true));
   std::string progress_mode = "auto";
   run->add_option("--progress", progress_mode,
                   "live: one line redrawn in place; plain: log lines; auto: live on a terminal")
@@ -72,7 +130,7 @@ int main(int argc, char** argv) {
   run->add_option("--log-every-s", ro.log_every_s,
                   "Plain progress: a progress line this often while jobs run")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_number(0, true));
   run->add_flag("-n,--dry-run", ro.dry_run, "List the jobs and their state; run and write nothing");
   run->add_flag("--allow-network-fs", ro.allow_network_fs,
                 "Accept a database on a network file system (rollback journal, one runner only)");
@@ -144,19 +202,26 @@ int main(int argc, char** argv) {
   submit
       ->add_option("--array-limit", so.array_limit,
                    "Array tasks running at once (%K of --array; 0: no limit)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1000000));
   submit->add_option("--jobs-per-task", so.jobs_per_task, "Jobs run by each array task")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(integer_in(1, 1000000));
   submit->add_option("--threads-per-job", so.threads_per_job, "OpenMP threads of each job")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(integer_in(1, max_threads_per_job));
   submit->add_option("--timeout", submit_timeout, "Wall-clock limit per job in seconds")
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_number(0, true, "; omit --timeout for no limit"));
   submit->add_flag("--retry-failed", so.retry_failed, "Resubmit failed/diverged/timed-out jobs");
+  submit->add_flag("--rerun-stale", so.rerun_stale,
+                   "Resubmit finished jobs made by other solver code (stale)");
+  submit
+      ->add_option("--max-jobs", so.max_jobs,
+                   "Refuse a study that expands to more jobs than this (counted before expanding)")
+      ->capture_default_str()
+      ->check(integer_in(1, 1000000000000LL));
   submit->add_option("--max-attempts", so.max_attempts, "With --retry-failed")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(integer_in(1, 1000000));
   submit->add_option("--partition", so.partition, "Slurm partition");
   submit->add_option("--sbatch-arg", so.sbatch_args, "Extra #SBATCH line (repeatable)");
   submit->add_option("--slurm-dir", so.slurm_dir,
@@ -165,12 +230,12 @@ int main(int argc, char** argv) {
   submit
       ->add_option("--checkpoint-every-steps", so.checkpoint_every_steps,
                    "Jobs that support checkpoints save one every N steps (0: off)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1000000000000000LL));
   submit
       ->add_option("--checkpoint-every-s", so.checkpoint_every_s,
                    "... and every S seconds of wall clock (0: off)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(finite_number(0, false, "; 0: off"));
   submit->add_flag("--wait", so.wait, "Wait for the array, ingesting results as they arrive");
   submit->add_flag("-n,--dry-run", so.dry_run, "Write the manifest and script, do not sbatch");
 
@@ -249,6 +314,10 @@ int main(int argc, char** argv) {
                                : std::string();
     if ((primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) && !db.empty())
       std::cerr << "runner: error: " << damaged_message(db, e.what(), false) << "\n";
+    else if (!db.empty())
+      std::cerr << "runner: error: database '" << db << "': " << e.what()
+                << (primary == SQLITE_FULL ? " (free space on its disk and run again)" : "")
+                << "\n";
     else
       std::cerr << "runner: error: " << e.what() << "\n";
     return 1;

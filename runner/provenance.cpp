@@ -1,7 +1,10 @@
 // Provenance strings recorded with every attempt.
 #include "provenance.hpp"
 
-#include "git_version.hpp" // generated at build time by cmake/git_version.cmake
+#include "git_version.hpp"        // generated at build time by cmake/git_version.cmake
+#include "solver_fingerprint.hpp" // generated at build time by cmake/solver_fingerprint.cmake
+
+#include <cstdlib>
 
 #include <unistd.h>
 
@@ -19,6 +22,12 @@ std::string compiler_id() {
 #else
   return "unknown compiler";
 #endif
+}
+
+std::string solver_fingerprint() {
+  if (const char* e = std::getenv("SPH_RUNNER_SOLVER_FINGERPRINT"); e && *e)
+    return e;
+  return SPH_SOLVER_FINGERPRINT;
 }
 
 std::string host_name() {

@@ -476,6 +476,23 @@ border:1px solid #ddd}figcaption{color:#555;font-size:.9em}.small{font-size:.85e
 
 } // namespace
 
+// Temporary files a killed report left (an image being drawn, the script gnuplot ran, a file
+// being written): a later report removes them before it writes its own.
+static void remove_leftover_temporaries(const fs::path& out_dir) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(out_dir, ec)) {
+    const std::string n = e.path().filename().string();
+    auto ends = [&](const std::string& suffix) {
+      return n.size() > suffix.size() &&
+             n.compare(n.size() - suffix.size(), suffix.size(), suffix) == 0;
+    };
+    const bool temporary = n.find(".tmp.") != std::string::npos || ends(".tmp") || ends(".run.gp");
+    std::error_code rm;
+    if (temporary && e.is_regular_file(rm))
+      fs::remove(e.path(), rm);
+  }
+}
+
 int cmd_report(const ReportOptions& o, std::ostream& out) {
   if (o.image_format != "svg" && o.image_format != "png")
     throw std::runtime_error("--image-format must be svg or png");
@@ -558,8 +575,25 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
   if (out_dir.empty())
     out_dir = o.db.parent_path() / "report" / study.name;
   fs::create_directories(out_dir);
+  remove_leftover_temporaries(out_dir);
 
   std::vector<std::string> notices;
+  {
+    // Stale results (made by other solver code than this build's) are shown, and said so.
+    Stmt c = db.prepare("SELECT count(DISTINCT j.id) FROM jobs j JOIN study_jobs sj ON "
+                        "sj.job_id=j.id AND sj.study_id=?1" +
+                        std::string(o.tier.empty() ? "" : " AND sj.tier=?3") + " WHERE " +
+                        stale_sql(db, "j.id", "j.state", "?2"));
+    c.bind(1, sid).bind(2, solver_fingerprint());
+    if (!o.tier.empty())
+      c.bind(3, o.tier);
+    if (c.step() && c.integer(0) > 0)
+      notices.push_back(std::to_string(c.integer(0)) +
+                        " of the jobs shown are stale: their results were computed by other "
+                        "solver code than this build's (solver fingerprint " +
+                        solver_fingerprint() +
+                        "). Run the study with --rerun-stale to recompute them.");
+  }
   if (definition_changed)
     notices.push_back("The study file changed since the study was last run (its SHA-256 differs "
                       "from the one recorded in the database): figures use the file's current "

@@ -29,16 +29,19 @@ std::string colour(std::size_t i) {
   return colours[i % (sizeof colours / sizeof *colours)];
 }
 
-// A gnuplot single-quoted string ('' escapes a quote; no backslash processing).
+// A gnuplot string. Single-quoted (no escapes processed) unless it holds an apostrophe: then
+// double-quoted with backslash and double quote escaped, since a single-quoted string cannot
+// start with a doubled quote (gnuplot reads '''t Hooft' as '' then t). Line breaks dropped.
 std::string quote(const std::string& s) {
-  std::string q = "'";
+  const bool apostrophe = s.find('\'') != std::string::npos;
+  std::string q = apostrophe ? "\"" : "'";
   for (char c : s) {
-    if (c == '\'')
-      q += "''";
+    if (apostrophe && (c == '\\' || c == '"'))
+      q += '\\', q += c;
     else if (c != '\n' && c != '\r')
       q += c;
   }
-  return q + "'";
+  return q + (apostrophe ? "\"" : "'");
 }
 
 std::string num(double v) {
@@ -284,10 +287,10 @@ DrawOutcome draw_figure(const std::string& program, const std::string& version,
   // The script draws into a temporary name; the image replaces the old one only when complete.
   const std::string tmp_image = name + ".tmp." + format;
   std::string runnable = script;
-  auto pos = runnable.find("set output '" + image + "'");
+  const std::string set_output = "set output " + quote(image);
+  auto pos = runnable.find(set_output);
   if (pos != std::string::npos)
-    runnable.replace(pos, std::string("set output '" + image + "'").size(),
-                     "set output '" + tmp_image + "'");
+    runnable.replace(pos, set_output.size(), "set output " + quote(tmp_image));
   const fs::path gp = out_dir / (name + ".gp");
   write_text_atomic(gp, script);
   const fs::path run_gp = out_dir / (name + ".run.gp");

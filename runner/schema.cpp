@@ -148,10 +148,18 @@ const char* schema_v3 = R"SQL(
 CREATE INDEX attempts_state ON attempts(state, finished_at);
 )SQL";
 
+// Version 4: the database carries PRAGMA application_id 'SPHR' (set by Store::migrate), and
+// attempts.solver_fingerprint records the solver code that ran each attempt (a hash of solver/
+// at build time; NULL for attempts recorded before): a done job whose fingerprint differs from
+// the running build's is stale (docs/runner.md, "Stale results").
+const char* schema_v4 = R"SQL(
+ALTER TABLE attempts ADD COLUMN solver_fingerprint TEXT;
+)SQL";
+
 } // namespace
 
 const std::vector<const char*>& migrations() {
-  static const std::vector<const char*> m{schema_v1, schema_v2, schema_v3};
+  static const std::vector<const char*> m{schema_v1, schema_v2, schema_v3, schema_v4};
   return m;
 }
 

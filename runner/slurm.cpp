@@ -115,7 +115,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
                std::ostream& err) {
   if (opts.jobs_per_task < 1)
     throw std::runtime_error("--jobs-per-task must be at least 1");
-  Expansion ex = expand(study, opts.tier);
+  Expansion ex = expand(study, opts.tier, opts.max_jobs);
   const std::string tier = ex.tier;
   Store store = Store::open_write(opts.db_path);
   const std::string host = host_name();
@@ -126,10 +126,15 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
     out << "ingested " << ing.ingested << " finished Slurm job(s)"
         << (ing.lost ? ", " + std::to_string(ing.lost) + " lost (pending again)" : "") << "\n";
 
-  StudyRecord rec{study.name, study.case_name, study.description,
-                  fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
-  SyncReport sync =
-      store.sync_study(rec, tier, ex.jobs, opts.retry_failed, opts.max_attempts, unix_now());
+  const std::string fingerprint = solver_fingerprint();
+  SyncReport sync = store.register_expansion(study, ex, opts.retry_failed, opts.max_attempts,
+                                             opts.rerun_stale, fingerprint);
+  if (sync.stale_requeued)
+    out << "resubmitting " << sync.stale_requeued << " stale job(s) (--rerun-stale)\n";
+  else if (auto n = sync.stale_kept)
+    out << "note: " << n << " finished job(s) are stale: made by other solver code (fingerprint "
+        << "differs from this build's " << fingerprint
+        << "); kept as they are, --rerun-stale resubmits them\n";
   std::vector<const JobRow*> todo;
   std::size_t submitted_already = 0, done = 0;
   for (const auto& row : sync.jobs) {
@@ -183,7 +188,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
         "state='pending' RETURNING attempts");
     Stmt a = store.db().prepare(
         "INSERT INTO attempts(job_id, attempt, state, started_at, host, pid, threads, "
-        "code_version, compiler) VALUES(?,?,'running',?,'slurm',?,?,?,?)");
+        "code_version, compiler, solver_fingerprint) VALUES(?,?,'running',?,'slurm',?,?,?,?,?)");
     json task = json::array();
     double now = unix_now();
     for (const JobRow* row : todo) {
@@ -195,7 +200,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
       int attempt = static_cast<int>(u.integer(0));
       u.reset();
       a.bind(1, row->id).bind(2, attempt).bind(3, now).bind(4, pid).bind(5, opts.threads_per_job);
-      a.bind(6, code_version()).bind(7, compiler_id()).run();
+      a.bind(6, code_version()).bind(7, compiler_id()).bind(8, solver_fingerprint()).run();
       const JobSpec& job = ex.jobs[row->ordinal];
       std::string stem = job.key + "." + std::to_string(attempt);
       // Outputs (HDF5 series, checkpoints) go to the shared directory the nodes see; ingestion

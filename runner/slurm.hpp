@@ -10,6 +10,7 @@
 // `runner submit` resubmits only the unfinished jobs.
 #pragma once
 
+#include "expand.hpp"
 #include "study.hpp"
 
 #include <filesystem>
@@ -28,8 +29,10 @@ struct SubmitOptions {
   int array_limit = 0;   // %K: array tasks running at once (0: no limit)
   int jobs_per_task = 1; // jobs run one after the other by each array task
   int threads_per_job = 1;
-  std::optional<double> timeout_s; // per job; the Slurm time limit is derived from it
+  std::size_t max_jobs = default_max_jobs; // refuse larger studies before expanding
+  std::optional<double> timeout_s;         // per job; the Slurm time limit is derived from it
   bool retry_failed = false;
+  bool rerun_stale = false; // resubmit finished jobs made by other solver code
   int max_attempts = 3;
   std::string partition;                // "" : the cluster's default
   std::vector<std::string> sbatch_args; // extra sbatch options, e.g. --account=X

@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <sys/vfs.h>
 #include <unistd.h>
@@ -53,12 +54,79 @@ int user_version(Db& db) {
   return static_cast<int>(db.scalar_int("PRAGMA user_version"));
 }
 
-void check_version(Db& db, const fs::path& path) {
-  int v = user_version(db);
+// The names of the tables, views and indexes a runner database of schema version v (1 to 3,
+// written before databases carried the application id) must have.
+std::vector<std::string> legacy_objects(int v) {
+  std::vector<std::string> o = {
+      "table studies",           "table jobs",           "table study_jobs",
+      "table attempts",          "table metrics",        "view job_metrics",
+      "index jobs_state",        "index study_jobs_job", "index study_jobs_order",
+      "index attempts_finished", "index metrics_name"};
+  if (v >= 2)
+    o.insert(o.end(), {"table job_params", "table slurm_submissions", "index job_params_lookup"});
+  if (v >= 3)
+    o.push_back("index attempts_state");
+  return o;
+}
+
+bool has_column(Db& db, const std::string& table, const std::string& column) {
+  Stmt q = db.prepare("SELECT 1 FROM pragma_table_info(?) WHERE name=?");
+  q.bind(1, table).bind(2, column);
+  return q.step();
+}
+
+// Positive identification, before anything (even the journal mode) changes a byte: a runner
+// database carries application_id 'SPHR' (since schema version 4); an older one (versions 1-3)
+// must have every table, view and index of its version and the key columns of `jobs`. An empty
+// file (no schema at all) is a new database. Anything else is someone else's file: refused.
+void identify(Db& db, const fs::path& path) {
+  const auto app = db.scalar_int("PRAGMA application_id");
+  const int v = user_version(db);
+  const auto objects = db.scalar_int("SELECT count(*) FROM sqlite_master");
+  if (app == Store::application_id) {
+    if (v > Store::schema_version)
+      throw std::runtime_error("database '" + path.string() + "' has schema version " +
+                               std::to_string(v) + ", newer than this runner supports (" +
+                               std::to_string(Store::schema_version) +
+                               "); use a newer runner build");
+    return;
+  }
+  const std::string not_ours =
+      "'" + path.string() + "' is an SQLite database but not a runner " + "database";
+  const std::string untouched = "; refusing to modify it (nothing was changed). Use another --db";
+  if (app != 0) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "0x%08llx", static_cast<unsigned long long>(app) & 0xffffffffu);
+    throw std::runtime_error(not_ours + " (its application_id is " + buf +
+                             ", a runner database has 0x53504852 'SPHR')" + untouched);
+  }
+  if (v == 0 && objects == 0)
+    return; // empty: a new database
   if (v > Store::schema_version)
     throw std::runtime_error("database '" + path.string() + "' has schema version " +
                              std::to_string(v) + ", newer than this runner supports (" +
-                             std::to_string(Store::schema_version) + "); use a newer runner build");
+                             std::to_string(Store::schema_version) +
+                             "), and no runner application id: it is " + "not a runner database" +
+                             ", or one written by a newer runner build; nothing was changed");
+  if (v < 1 || v > 3)
+    throw std::runtime_error(not_ours + " (user_version " + std::to_string(v) +
+                             ", no runner application id)" + untouched);
+  std::string missing;
+  for (const auto& o : legacy_objects(v)) {
+    auto sp = o.find(' ');
+    Stmt q = db.prepare("SELECT 1 FROM sqlite_master WHERE type=? AND name=?");
+    q.bind(1, o.substr(0, sp)).bind(2, o.substr(sp + 1));
+    if (!q.step())
+      missing += (missing.empty() ? "" : ", ") + o;
+  }
+  if (missing.empty())
+    for (const char* c : {"key", "params_json", "numerics_version", "state", "owner_pid"})
+      if (!has_column(db, "jobs", c))
+        missing += std::string(missing.empty() ? "" : ", ") + "column jobs." + c;
+  if (!missing.empty())
+    throw std::runtime_error(not_ours + " (user_version " + std::to_string(v) +
+                             " but no runner application id, and it lacks " + missing + ")" +
+                             untouched);
 }
 
 } // namespace
@@ -78,7 +146,7 @@ namespace {
 void configure_checked(Db& db, const fs::path& path, const std::string& advice) {
   try {
     configure(db);
-    check_version(db, path);
+    identify(db, path);
   } catch (const SqliteError& e) {
     int primary = e.code() & 0xff;
     if (primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB)
@@ -146,12 +214,8 @@ Store Store::open_write(const fs::path& path, bool allow_network_fs) {
       throw std::runtime_error(damaged_message(path, e.what()));
     }
   }
-  // Refuse someone else's database before anything (even the journal mode) changes its bytes.
-  if (user_version(db) == 0 &&
-      db.scalar_int("SELECT count(*) FROM sqlite_master WHERE type='table'") > 0)
-    throw std::runtime_error("'" + path.string() +
-                             "' is an SQLite database but not a runner database; refusing to "
-                             "modify it");
+  // configure_checked() identified the file (someone else's is refused before anything, even
+  // the journal mode, changes its bytes).
   if (network)
     db.exec("PRAGMA journal_mode=DELETE");
   else {
@@ -160,6 +224,14 @@ Store Store::open_write(const fs::path& path, bool allow_network_fs) {
       throw std::runtime_error("cannot switch database '" + path.string() + "' to WAL mode");
   }
   db.exec("PRAGMA synchronous=NORMAL");
+  // A small -wal file: checkpoints every 250 pages (1 MB) instead of 1000, and a -wal file
+  // larger than 1 MB is cut back to that after a checkpoint (a full disk must not come from it).
+  db.exec("PRAGMA wal_autocheckpoint=250");
+  db.exec("PRAGMA journal_size_limit=1048576");
+  // A page cache of up to 128 MB (allocated as used): registering 100,000 jobs in one
+  // transaction touches tens of MB of index pages, which the default 2 MB cache spills to the
+  // -wal file again and again.
+  db.exec("PRAGMA cache_size=-131072");
   Store store(std::move(db), path);
   store.migrate();
   return store;
@@ -173,6 +245,8 @@ Store Store::open_read(const fs::path& path) {
   configure_checked(db, path, "");
   if (user_version(db) == 0)
     throw std::runtime_error("'" + path.string() + "' is not a runner database (no schema)");
+  // A runner database of an older schema is read as it is; the columns added since are filled by
+  // the next runner that opens it for writing.
   return Store(std::move(db), path);
 }
 
@@ -188,13 +262,53 @@ void Store::migrate() {
   const auto& m = migrations();
   for (; v < schema_version; ++v)
     db_.exec(m[static_cast<std::size_t>(v)]);
+  db_.exec("PRAGMA application_id=" + std::to_string(application_id));
   db_.exec("PRAGMA user_version=" + std::to_string(schema_version));
   tx.commit();
 }
 
+std::string stale_sql(Db& db, const std::string& job, const std::string& state,
+                      const std::string& fp) {
+  Stmt c = db.prepare("SELECT 1 FROM pragma_table_info('attempts') WHERE "
+                      "name='solver_fingerprint'");
+  const std::string fingerprint =
+      c.step() ? "(SELECT a.solver_fingerprint FROM attempts a WHERE a.job_id=" + job +
+                     " AND a.state=" + state + " ORDER BY a.attempt DESC LIMIT 1)"
+               : std::string("NULL");
+  return "(" + state + " IN ('done','diverged') AND " + fingerprint + " IS NOT " + fp + ")";
+}
+
+SyncReport Store::register_expansion(const Study& study, const Expansion& ex, bool retry_failed,
+                                     int max_attempts, bool rerun_stale,
+                                     const std::string& fingerprint) {
+  StudyRecord rec{study.name, study.case_name, study.description,
+                  fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
+  SyncReport sync =
+      sync_study(rec, ex.tier, ex.jobs, retry_failed, max_attempts, unix_now(),
+                 rerun_stale ? std::optional<std::string>(fingerprint) : std::nullopt);
+  if (!rerun_stale)
+    sync.stale_kept = stale_count(sync.study_id, ex.tier, fingerprint);
+  return sync;
+}
+
+std::size_t Store::stale_count(std::int64_t study_id, const std::string& tier,
+                               const std::string& fingerprint) {
+  Stmt q = db_.prepare("SELECT count(*) FROM jobs j WHERE j.id IN (SELECT job_id FROM study_jobs "
+                       "WHERE study_id=?1 AND tier=?2 AND current) AND " +
+                       stale_sql(db_, "j.id", "j.state", "?3"));
+  q.bind(1, study_id).bind(2, tier).bind(3, fingerprint);
+  return q.step() ? static_cast<std::size_t>(q.integer(0)) : 0;
+}
+
+void Store::checkpoint_wal(bool truncate) {
+  sqlite3_wal_checkpoint_v2(db_.handle(), nullptr,
+                            truncate ? SQLITE_CHECKPOINT_TRUNCATE : SQLITE_CHECKPOINT_PASSIVE,
+                            nullptr, nullptr);
+}
+
 SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
                              const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
-                             double now) {
+                             double now, const std::optional<std::string>& rerun_stale_of) {
   SyncReport r;
   WriteTx tx(db_);
   {
@@ -233,6 +347,10 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
   Stmt member = db_.prepare(
       "INSERT INTO study_jobs(study_id, job_id, tier, ordinal, current) VALUES(?,?,?,?,1) "
       "ON CONFLICT(study_id, job_id, tier) DO UPDATE SET ordinal=excluded.ordinal, current=1");
+  // Many new jobs at once: after the first 20,000 new ones, the (name, value, job_id) index is
+  // dropped and rebuilt once at the end (a sort) instead of taking ten random inserts per job.
+  // Inside the transaction: readers never see the table without it.
+  bool bulk = false;
   Stmt params = db_.prepare("INSERT OR IGNORE INTO job_params(job_id, name, value) SELECT ?1, "
                             "p.key, p.value FROM json_each(?2) p");
   std::size_t kept = 0;
@@ -243,7 +361,10 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
     std::int64_t id;
     if (db_.changes() == 1) {
       id = sqlite3_last_insert_rowid(db_.handle());
-      ++r.inserted;
+      if (++r.inserted == 20000 && jobs.size() - i > 20000) {
+        db_.exec("DROP INDEX IF EXISTS job_params_lookup");
+        bulk = true;
+      }
       params.bind(1, id).bind(2, j.params_json).run();
     } else {
       find.bind(1, j.key);
@@ -257,6 +378,8 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
     member.run();
   }
   r.removed = before.size() - kept;
+  if (bulk)
+    db_.exec("CREATE INDEX IF NOT EXISTS job_params_lookup ON job_params(name, value, job_id)");
 
   const char* failing = "('failed','diverged','timeout')";
   std::string failed_attempts = std::string("(SELECT count(*) FROM attempts a WHERE a.job_id = "
@@ -275,6 +398,12 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
     c.bind(1, r.study_id).bind(2, tier);
     c.step();
     r.exhausted = static_cast<std::size_t>(c.integer(0));
+  }
+  if (rerun_stale_of) {
+    Stmt u = db_.prepare("UPDATE jobs SET state='pending', updated_at=?3 WHERE " + in_study +
+                         " AND " + stale_sql(db_, "jobs.id", "jobs.state", "?4"));
+    u.bind(1, r.study_id).bind(2, tier).bind(3, now).bind(4, *rerun_stale_of).run();
+    r.stale_requeued = static_cast<std::size_t>(db_.changes());
   }
   {
     Stmt q =
@@ -307,8 +436,11 @@ std::vector<StaleJob> Store::reset_stale(const std::string& host, int self_pid, 
       std::string owner = q.text(2);
       int pid = static_cast<int>(q.integer(3));
       std::string who = "host " + owner + ", pid " + std::to_string(pid);
-      if (owner == host && (pid == self_pid || !pid_alive(pid))) {
-        stale.push_back({q.integer(0), q.text(1), "abandoned: owner process gone (" + who + ")"});
+      if (owner == host) {
+        // On this host the owner's pid decides, never its heartbeat: a runner stopped for a
+        // while (Ctrl-Z, kill -STOP, a suspended laptop) still owns its jobs and their folders.
+        if (pid == self_pid || !pid_alive(pid))
+          stale.push_back({q.integer(0), q.text(1), "abandoned: owner process gone (" + who + ")"});
       } else if (q.is_null(4) || now - q.real(4) > stale_after_s) {
         double age = q.is_null(4) ? -1 : now - q.real(4);
         stale.push_back({q.integer(0), q.text(1),
@@ -345,9 +477,11 @@ std::optional<int> Store::claim(std::int64_t job_id, const AttemptStart& a) {
   int attempt = static_cast<int>(u.integer(0));
   u.reset();
   Stmt i = db_.prepare("INSERT INTO attempts(job_id, attempt, state, started_at, host, pid, "
-                       "threads, code_version, compiler) VALUES(?,?,'running',?,?,?,?,?,?)");
+                       "threads, code_version, compiler, solver_fingerprint) "
+                       "VALUES(?,?,'running',?,?,?,?,?,?,?)");
   i.bind(1, job_id).bind(2, attempt).bind(3, a.started_at).bind(4, a.host).bind(5, a.pid);
-  i.bind(6, a.threads).bind(7, a.code_version).bind(8, a.compiler).run();
+  i.bind(6, a.threads).bind(7, a.code_version).bind(8, a.compiler);
+  i.bind(9, a.solver_fingerprint).run();
   tx.commit();
   return attempt;
 }

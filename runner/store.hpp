@@ -42,7 +42,9 @@ struct SyncReport {
   std::size_t removed = 0;   // were in this study and tier, no longer in its expansion
   std::size_t requeued = 0;  // failed/diverged/timeout jobs put back to pending (--retry-failed)
   std::size_t exhausted = 0; // failed jobs left alone because they reached max_attempts
-  std::vector<JobRow> jobs;  // in expansion order
+  std::size_t stale_requeued = 0; // done/diverged jobs of other solver code put back to pending
+  std::size_t stale_kept = 0;     // ... kept as they are (without rerun_stale)
+  std::vector<JobRow> jobs;       // in expansion order
 };
 
 struct AttemptStart {
@@ -52,6 +54,7 @@ struct AttemptStart {
   std::string code_version;
   std::string compiler;
   double started_at = 0;
+  std::string solver_fingerprint; // provenance.hpp
 };
 
 struct Finish {
@@ -75,7 +78,9 @@ struct StaleJob {
 
 class Store {
 public:
-  static constexpr int schema_version = 3;
+  static constexpr int schema_version = 4;
+  // PRAGMA application_id of a runner database: 'SPHR'.
+  static constexpr std::int64_t application_id = 0x53504852;
 
   // Creates the file (and its directory) if needed, migrates the schema, sets WAL.
   // Refuses a database on a network file system unless allow_network_fs (then no WAL).
@@ -90,12 +95,29 @@ public:
   // records membership and order, drops membership of jobs no longer in the expansion, and with
   // retry_failed puts failed/diverged/timeout jobs with fewer than max_attempts failing attempts
   // back to pending.
+  // With rerun_stale_of (this build's solver fingerprint), done and diverged jobs whose result
+  // was made by other solver code go back to pending too.
   SyncReport sync_study(const StudyRecord& study, const std::string& tier,
                         const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
-                        double now);
+                        double now, const std::optional<std::string>& rerun_stale_of = {});
 
-  // Puts `running` jobs whose owner is gone back to pending (same host and dead pid, or a
-  // heartbeat older than stale_after_s); their attempt rows become `abandoned`.
+  // The front half shared by `run` and `submit`: registers an expanded study (sync_study with the
+  // study's record) and counts the stale jobs it keeps; fingerprint is this build's solver
+  // fingerprint, rerun_stale puts the stale ones back to pending instead.
+  SyncReport register_expansion(const Study& study, const Expansion& ex, bool retry_failed,
+                                int max_attempts, bool rerun_stale, const std::string& fingerprint);
+
+  // Done and diverged jobs of a study's tier (current expansion) whose result was made by solver
+  // code other than `fingerprint` (or before fingerprints were recorded).
+  std::size_t stale_count(std::int64_t study_id, const std::string& tier,
+                          const std::string& fingerprint);
+
+  // PRAGMA wal_checkpoint: PASSIVE (never waits) or, with truncate, TRUNCATE (the -wal file
+  // back to zero bytes when no reader is using it). Errors are ignored: a checkpoint is tidying.
+  void checkpoint_wal(bool truncate);
+
+  // Puts `running` jobs whose owner is gone back to pending (same host: the owner pid is dead;
+  // another host: a heartbeat older than stale_after_s); their attempt rows become `abandoned`.
   std::vector<StaleJob> reset_stale(const std::string& host, int self_pid, double now,
                                     double stale_after_s,
                                     const std::function<bool(int)>& pid_alive);
@@ -140,6 +162,13 @@ private:
 // at_open: found before anything was written; otherwise in the middle of a command.
 std::string damaged_message(const std::filesystem::path& path, const std::string& what,
                             bool at_open = true);
+
+// SQL: 1 when job `job` (an SQL expression for jobs.id, e.g. "j.id") with state `state` (e.g.
+// "j.state") holds a result (done or diverged) made by solver code other than the bound
+// parameter `fp` (e.g. "?3"); 0 otherwise. For databases before schema version 4 (no
+// fingerprints) every result is stale.
+std::string stale_sql(Db& db, const std::string& job, const std::string& state,
+                      const std::string& fp);
 
 // True when `dir` is on NFS, SMB/CIFS, Lustre, GPFS, BeeGFS, Ceph or FUSE (sshfs...).
 bool is_network_filesystem(const std::filesystem::path& dir, std::string* fs_name = nullptr);

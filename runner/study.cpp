@@ -13,9 +13,12 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <fcntl.h>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace sph::runner {
 
@@ -169,6 +172,12 @@ private:
                     "[study] name: \"" + *name +
                         "\" must start with a letter or digit and contain only letters, digits, "
                         "'_', '-' and '.' (it names a results directory)");
+      else if (name->size() > max_study_name)
+        diag_.error(line_of(*st.get("name")),
+                    "[study] name: " + std::to_string(name->size()) + " characters; at most " +
+                        std::to_string(max_study_name) +
+                        " are allowed (it names a results directory, and file names are limited "
+                        "to 255 bytes)");
       study_.name = *name;
     }
     if (auto d = str("description", false))
@@ -533,18 +542,53 @@ Study load_study(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw StudyError({{path.string(), 0, 0, "cannot read study file: it is a directory"}});
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  auto refuse = [&](const std::string& why) {
+    throw StudyError({{path.string(), 0, 0, "cannot read study file: " + why}});
+  };
+  // Opened without blocking (a FIFO with no writer would hang), then checked to be a regular
+  // file (not a FIFO, a device like /dev/zero, a socket) of bounded size, read with a bound.
+  int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
     int err = errno;
-    throw StudyError(
-        {{path.string(), 0, 0,
-          "cannot read study file: " + std::string(std::strerror(err ? err : ENOENT))}});
+    refuse(std::strerror(err ? err : ENOENT));
   }
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad())
-    throw StudyError({{path.string(), 0, 0, "cannot read study file: read error"}});
-  return parse_study(ss.str(), path.string());
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    refuse(std::string("not a regular file (") +
+           (S_ISFIFO(st.st_mode)   ? "a FIFO"
+            : S_ISCHR(st.st_mode)  ? "a character device"
+            : S_ISBLK(st.st_mode)  ? "a block device"
+            : S_ISSOCK(st.st_mode) ? "a socket"
+                                   : "not a file") +
+           "); a study file is a TOML text file");
+  }
+  if (static_cast<std::uintmax_t>(st.st_size) > max_study_file_bytes) {
+    ::close(fd);
+    refuse(std::to_string(st.st_size) + " bytes; a study file may have at most " +
+           std::to_string(max_study_file_bytes) + " bytes");
+  }
+  std::string text;
+  char buf[65536];
+  for (;;) {
+    ssize_t n = ::read(fd, buf, sizeof buf);
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n < 0) {
+      int err = errno;
+      ::close(fd);
+      refuse(std::string("read error: ") + std::strerror(err));
+    }
+    if (n == 0)
+      break;
+    text.append(buf, static_cast<std::size_t>(n));
+    if (text.size() > max_study_file_bytes) {
+      ::close(fd);
+      refuse("more than " + std::to_string(max_study_file_bytes) + " bytes");
+    }
+  }
+  ::close(fd);
+  return parse_study(text, path.string());
 }
 
 } // namespace sph::runner

@@ -86,6 +86,11 @@ struct Study {
   std::vector<std::string> tier_names() const;
 };
 
+// Limits on hostile or mistaken input: a study file's size, a study name's length (it names a
+// directory: results/<name>/<64-character key>/...).
+inline constexpr std::size_t max_study_file_bytes = 4u << 20;
+inline constexpr std::size_t max_study_name = 200;
+
 // The tier name under which a study's untiered expansion is recorded.
 inline constexpr const char* full_tier = "full";
 

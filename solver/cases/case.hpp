@@ -14,6 +14,7 @@
 #include "schemes/scheme.hpp"
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@ struct CaseInfo {
   std::vector<std::string> schemes; // schemes this case runs with (empty: none; first = default)
   std::vector<ParamSpec> params;    // the case's own parameters (geometry, physics, diagnostics)
   std::function<RunResult(const Params&, const RunContext&)> run;
+  // Optional: the case's own constraints on a resolved parameter set, checked when a study is
+  // validated (before anything runs): an error message ("1/dx must be an integer"), or nullopt.
+  std::function<std::optional<std::string>(const Params&)> check;
 };
 
 // All registered cases (by name), and look-up by name (nullptr when no case has that name).

@@ -37,6 +37,10 @@ struct ParamSpec {
   std::vector<std::string> choices; // String: allowed values (empty: any)
   // false: does not enter the job's identity (threads, output options).
   bool identity = true;
+  // true: at its default value the parameter does not enter the job key either, so a parameter
+  // added to a case with a default that reproduces the old behaviour keeps the keys (and the
+  // finished results) of the jobs that do not set it. Other values enter the key as usual.
+  bool neutral_default = false;
 };
 
 // Typed access to resolved parameters (the runner guarantees presence and type).

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
@@ -32,11 +33,18 @@ inline std::string read_file(const std::filesystem::path& p) {
   return ss.str();
 }
 
+// The binary under test: RUNNER_EXE, or SPH_RUNNER_EXE when set (to run the end-to-end tests
+// against another build, e.g. the code before a fix, to see them fail there).
+inline std::string runner_exe() {
+  const char* e = std::getenv("SPH_RUNNER_EXE");
+  return e && *e ? std::string(e) : std::string(RUNNER_EXE);
+}
+
 // Runs `runner ARGS` (a shell command line) in dir with extra environment assignments.
 inline CmdResult run_runner(const TempDir& dir, const std::string& args,
                             const std::string& env = "", const std::string& out_name = "out.txt") {
-  std::string cmd = "cd '" + dir.path().string() + "' && " + env + " '" RUNNER_EXE "' " + args +
-                    " > " + out_name + " 2>&1";
+  std::string cmd = "cd '" + dir.path().string() + "' && " + env + " '" + runner_exe() + "' " +
+                    args + " > " + out_name + " 2>&1";
   int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(dir / out_name)};
 }
@@ -58,7 +66,7 @@ inline pid_t spawn_runner(const std::filesystem::path& dir, const std::vector<st
     for (const auto& [k, v] : env)
       setenv(k.c_str(), v.c_str(), 1);
     std::vector<char*> argv;
-    std::string exe = RUNNER_EXE;
+    std::string exe = runner_exe();
     argv.push_back(exe.data());
     std::vector<std::string> copy = args;
     for (auto& a : copy)
