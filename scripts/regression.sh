@@ -11,8 +11,9 @@
 # (exit 0; rows of metrics added since are listed, not failed); a changed or missing row is
 # printed and fails (exit 1). The baselines are tests/regression/baseline_quick.csv
 # and baseline_long.csv, captured on the code before the scheme-interface redesign (issue 14).
-# Needs a Release build in build/ (scripts/build.sh). STUDIES="a b" limits the quick tiers to
-# those studies (compare then checks only their baseline rows).
+# Needs a Release build in build/ (scripts/build.sh; RUNNER= another binary). STUDIES="a b" limits
+# the run to those study files (studies/a.toml, or tests/regression/a.toml with --long; compare
+# then checks only the baseline rows of the study names they define).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 RUNNER="${RUNNER:-$ROOT/build/runner}"
@@ -25,19 +26,20 @@ trap 'rm -rf "$TMP"' EXIT
 DB="$TMP/regression.sqlite"
 export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
 
+studies=()
 if [[ "$long" == --long ]]; then
-  studies=("$ROOT"/tests/regression/*.toml)
+  files=("$ROOT"/tests/regression/*.toml)
   tier=()
 else
-  studies=()
-  for s in "$ROOT"/studies/*.toml; do
-    if [[ -n "${STUDIES:-}" ]] && ! [[ " $STUDIES " == *" $(basename "$s" .toml) "* ]]; then
-      continue
-    fi
-    grep -q '^\[tiers\.quick\]' "$s" && studies+=("$s")
-  done
+  files=("$ROOT"/studies/*.toml)
   tier=(--tier quick)
 fi
+for s in "${files[@]}"; do
+  if [[ -n "${STUDIES:-}" ]] && ! [[ " $STUDIES " == *" $(basename "$s" .toml) "* ]]; then
+    continue
+  fi
+  [[ "$long" == --long ]] || grep -q '^\[tiers\.quick\]' "$s" && studies+=("$s")
+done
 for s in "${studies[@]}"; do
   echo "regression: $(basename "$s")" >&2
   "$RUNNER" "$s" "${tier[@]}" --db "$DB" -j "${JOBS:-2}" --progress plain >"$TMP/run.log" 2>&1 ||
