@@ -290,24 +290,35 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
   return 0;
 }
 
+namespace {
+void print_params(std::ostream& out, const std::vector<ParamSpec>& params) {
+  for (const auto& p : params) {
+    std::string constraint = constraint_text(p);
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "  %-14s %-6s default %-16s", p.name.c_str(),
+                  type_name(p.type).c_str(), format_value(p.default_value).c_str());
+    out << buf;
+    if (!constraint.empty())
+      out << " " << constraint << ";";
+    out << " " << p.doc;
+    if (!p.identity)
+      out << " (not part of the job key)";
+    out << "\n";
+  }
+}
+} // namespace
+
 int cmd_cases(std::ostream& out) {
   for (const auto& c : case_registry()) {
     out << c.name << ": " << c.description << "\n";
     if (!c.schemes.empty())
       out << "  schemes: " << quoted_list(c.schemes) << "\n";
-    for (const auto& p : c.params) {
-      std::string constraint = constraint_text(p);
-      char buf[128];
-      std::snprintf(buf, sizeof buf, "  %-14s %-6s default %-16s", p.name.c_str(),
-                    type_name(p.type).c_str(), format_value(p.default_value).c_str());
-      out << buf;
-      if (!constraint.empty())
-        out << " " << constraint << ";";
-      out << " " << p.doc;
-      if (!p.identity)
-        out << " (not part of the job key)";
-      out << "\n";
-    }
+    print_params(out, c.params);
+  }
+  out << "\nschemes (their parameters join those of the case a study runs them with):\n";
+  for (const auto& s : scheme_registry()) {
+    out << "scheme " << s.name << ": " << s.description << "\n";
+    print_params(out, s.params);
   }
   return 0;
 }

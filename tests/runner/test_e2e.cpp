@@ -92,6 +92,11 @@ TEST(RunnerE2E, QueryPrintsCsvWithHeader) {
   EXPECT_CONTAINS(ex.out, "\"n_side\": 9");
   auto cases = run(dir, "cases");
   EXPECT_CONTAINS(cases.out, "patch_test");
+  // Every scheme's parameters, with default, range and doc (from the scheme's ParamTable).
+  EXPECT_CONTAINS(cases.out, "scheme wcsph_tvf: ");
+  EXPECT_CONTAINS(cases.out, "cfl_ad         real   default 0.25             (0, 1]; advection CFL");
+  EXPECT_CONTAINS(cases.out, "scheme isph: ");
+  EXPECT_CONTAINS(cases.out, "visc           string default visc04           one of ");
 }
 
 TEST(RunnerE2E, BadStudyIsRejectedAndTheDatabaseIsUntouched) {
