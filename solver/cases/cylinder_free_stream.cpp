@@ -43,22 +43,25 @@
 // advection_steps, acoustic_steps, time_per_particle_step_s, n_particles.
 // HDF5 (<output_dir>/cylinder_free_stream.h5): series/{t,cd,cl} (one sample per sample_interval,
 // each the mean of the advection steps in it) and fields/{x,y,ux,uy,p} at t_end.
-// Checkpoints: particles, series, the partial sample bin and the loop's scalars; resumes bit for
-// bit (tests/runner/test_checkpoint.cpp).
+// Time loop: the shared one (cases/time_loop.hpp); the smooth start's body acceleration is set
+// before each step, the sponge zones, the nudge, the force sample and the divergence test (max |u|
+// after the sponge, a force not finite) follow each step. A diverged run reports t_stop.
+// Checkpoints: particles, series (cfs/t, cd, cl, cdv), the partial sample bin and the case's
+// scalars (cfs/loop), the scheme's state; resumes bit for bit (tests/runner/test_checkpoint.cpp).
 #include "cases/case.hpp"
 #include "cases/shedding.hpp"
+#include "cases/time_loop.hpp"
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/signal.hpp"
 #include "io/hdf5.hpp"
-#include "io/particle_checkpoint.hpp"
 #include "io/particle_fields.hpp"
-#include "schemes/wcsph_tvf/scheme_info.hpp"
+#include "schemes/wcsph_tvf/wcsph_tvf.hpp"
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
-#include <omp.h>
 #include <stdexcept>
 
 namespace sph {
@@ -67,236 +70,251 @@ namespace {
 using V2 = Vec<2>;
 constexpr double pi = std::numbers::pi;
 
-template <class K>
-RunResult run(const Params& prm, const RunContext& ctx) {
-  using clock = std::chrono::steady_clock;
-  const auto t_start = clock::now();
-  const double Re = get_real(prm, "Re"), t_end = get_real(prm, "t_end");
-  const double dx = 1.0 / get_real(prm, "D_over_dx");
-  const double t_settle = get_real(prm, "settle_fraction") * t_end;
-  const double ramp = get_real(prm, "ramp_time"), nudge = get_real(prm, "perturbation");
-  const double Ls = get_real(prm, "sponge_length"), sigma = get_real(prm, "sponge_rate");
-  const double Ly = get_real(prm, "lateral_sponge_length");
-  const double speed_bound = get_real(prm, "speed_bound");
-  const double sample_interval = get_real(prm, "sample_interval");
-  // Variable resolution: spacing dx within the band |y - H/2| < b, 2 dx outside (b > 0).
-  const double band = get_real(prm, "refinement_band");
-  const double dxc = band > 0.0 ? 2.0 * dx : dx; // the coarse lattice
-  const int nx = static_cast<int>(std::lround(get_real(prm, "domain_length") / dxc));
-  const int ny = band > 0.0
-                     ? 2 * static_cast<int>(std::lround(get_real(prm, "domain_height") / (2 * dxc)))
-                     : static_cast<int>(std::lround(get_real(prm, "domain_height") / dxc));
-  const int nband = static_cast<int>(std::lround(band / dxc)); // band half-width in coarse rows
-  const double L = nx * dxc, H = ny * dxc, D = 1.0, R = 0.5 * D, U = 1.0, rho0 = 1.0;
-  const V2 c(get_real(prm, "upstream_length"), 0.5 * H);
-  const double x_sponge = L - Ls;
+class CylinderFreeStream final : public FlowCase<2> {
+public:
+  CylinderFreeStream(const Params& prm, const RunContext& ctx) : prm_(prm), ctx_(ctx) {
+    Re_ = get_real(prm, "Re"), t_end_ = get_real(prm, "t_end");
+    dx_ = 1.0 / get_real(prm, "D_over_dx");
+    t_settle_ = get_real(prm, "settle_fraction") * t_end_;
+    ramp_ = get_real(prm, "ramp_time"), nudge_ = get_real(prm, "perturbation");
+    Ls_ = get_real(prm, "sponge_length"), sigma_ = get_real(prm, "sponge_rate");
+    Ly_ = get_real(prm, "lateral_sponge_length");
+    speed_bound_ = get_real(prm, "speed_bound");
+    sample_interval_ = get_real(prm, "sample_interval");
+    next_sample_ = sample_interval_;
+    nudged_ = !(nudge_ > 0.0);
+  }
 
-  const wcsph_tvf::Options o = wcsph_tvf::options_for_flow(prm, rho0, U, D, Re, dx);
-  const K kernel(o.h);
-  const double support = kernel.support();
-  if (band > 0.0 && (nband * dxc < R + support || nband * dxc > 0.5 * H - Ly))
-    throw std::invalid_argument(
-        "cylinder_free_stream: refinement_band must hold the cylinder and a kernel support and "
-        "stay outside the lateral sponge zones (0.5 + 2.6 / D_over_dx <= refinement_band <= "
-        "domain_height / 2 - lateral_sponge_length)");
-  if (c[0] - R < 2.0 * support || c[0] + R + D > x_sponge || R + D > 0.5 * H - Ly)
-    throw std::invalid_argument(
-        "cylinder_free_stream: the cylinder must lie two kernel supports inside the box, one D "
-        "ahead of the sponge zones (upstream_length + 1.5 <= domain_length - sponge_length, "
-        "1.5 + lateral_sponge_length <= domain_height / 2)");
+  Flow<2> build(Particles<2>& p) override {
+    p_ = &p;
+    const double dx = dx_;
+    // Variable resolution: spacing dx within the band |y - H/2| < b, 2 dx outside (b > 0).
+    const double band = get_real(prm_, "refinement_band");
+    const double dxc = band > 0.0 ? 2.0 * dx : dx; // the coarse lattice
+    const int nx = static_cast<int>(std::lround(get_real(prm_, "domain_length") / dxc));
+    const int ny =
+        band > 0.0 ? 2 * static_cast<int>(std::lround(get_real(prm_, "domain_height") / (2 * dxc)))
+                   : static_cast<int>(std::lround(get_real(prm_, "domain_height") / dxc));
+    const int nband = static_cast<int>(std::lround(band / dxc)); // band half-width in coarse rows
+    L_ = nx * dxc, H_ = ny * dxc;
+    c_ = V2(get_real(prm_, "upstream_length"), 0.5 * H_);
+    x_sponge_ = L_ - Ls_;
 
-  auto u_inf = [&](double t) { return t < ramp ? 0.5 * U * (1.0 - std::cos(pi * t / ramp)) : U; };
-  auto du_inf = [&](double t) {
-    return t < ramp ? 0.5 * U * pi / ramp * std::sin(pi * t / ramp) : 0.0;
-  };
+    const double h = get_real(prm_, "h_over_dx") * dx;
+    const double support = kernel_support_factor(get_string(prm_, "kernel")) * h;
+    if (band > 0.0 && (nband * dxc < R + support || nband * dxc > 0.5 * H_ - Ly_))
+      throw std::invalid_argument(
+          "cylinder_free_stream: refinement_band must hold the cylinder and a kernel support and "
+          "stay outside the lateral sponge zones (0.5 + 2.6 / D_over_dx <= refinement_band <= "
+          "domain_height / 2 - lateral_sponge_length)");
+    if (c_[0] - R < 2.0 * support || c_[0] + R + D > x_sponge_ || R + D > 0.5 * H_ - Ly_)
+      throw std::invalid_argument(
+          "cylinder_free_stream: the cylinder must lie two kernel supports inside the box, one D "
+          "ahead of the sponge zones (upstream_length + 1.5 <= domain_length - sponge_length, "
+          "1.5 + lateral_sponge_length <= domain_height / 2)");
 
-  // --- particles ---------------------------------------------------------------------------
-  Particles<2> p;
-  const double m = rho0 * dx * dx;
-  for (int k = 0;; ++k) { // cylinder rings, outermost first
-    const double rk = R - (k + 0.5) * dx;
-    if (rk <= 0.25 * dx || (k + 0.5) * dx > support)
-      break;
-    const int n = std::max(1, static_cast<int>(std::lround(2.0 * pi * rk / dx)));
-    for (int a = 0; a < n; ++a) {
-      const double th = (a + 0.5) * 2.0 * pi / n;
-      p.add(c + rk * V2(-std::cos(th), std::sin(th)), m, rho0, Kind::Wall);
+    const double m = rho0 * dx * dx;
+    for (int k = 0;; ++k) { // cylinder rings, outermost first
+      const double rk = R - (k + 0.5) * dx;
+      if (rk <= 0.25 * dx || (k + 0.5) * dx > support)
+        break;
+      const int n = std::max(1, static_cast<int>(std::lround(2.0 * pi * rk / dx)));
+      for (int a = 0; a < n; ++a) {
+        const double th = (a + 0.5) * 2.0 * pi / n;
+        p.add(c_ + rk * V2(-std::cos(th), std::sin(th)), m, rho0, Kind::Wall);
+      }
     }
+    const std::size_t n_wall = p.size();
+    for_each_lattice_point<2>(
+        {0, 0}, {nx, ny}, dxc, [&](const V2& x, const std::array<int, 2>& ij) {
+          auto add = [&](const V2& y, double d) {
+            if ((y - c_).norm() >= R)
+              p.v[p.add(y, rho0 * d * d, rho0)] = V2(u_inf(0.0), 0.0);
+          };
+          if (band > 0.0 && std::abs(ij[1] + 0.5 - 0.5 * ny) < nband) // a coarse cell of the band
+            for (int a = 0; a < 4; ++a)
+              add(x + 0.25 * dxc * V2(a % 2 ? 1.0 : -1.0, a / 2 ? 1.0 : -1.0), dx);
+          else
+            add(x, dxc);
+        });
+    Flow<2> f;
+    f.v_wall = p.add_vector("v_wall"); // zero: the cylinder is at rest
+    if (band > 0.0) {
+      f.h = p.add_scalar("h");
+      for (std::size_t i = 0; i < p.size(); ++i) // h = h_over_dx times the particle's spacing
+        p.scalar(f.h)[i] = i < n_wall ? h : h * std::sqrt(p.m[i] / m);
+    }
+    f.box.lo = V2::Zero(), f.box.hi = V2(L_, H_);
+    f.box.periodic = {true, true};
+    f.rho0 = rho0, f.U = U, f.L = D, f.Re = Re_, f.dx = dx;
+    return f;
   }
-  const std::size_t n_wall = p.size();
-  for_each_lattice_point<2>({0, 0}, {nx, ny}, dxc, [&](const V2& x, const std::array<int, 2>& ij) {
-    auto add = [&](const V2& y, double d) {
-      if ((y - c).norm() >= R)
-        p.v[p.add(y, rho0 * d * d, rho0)] = V2(u_inf(0.0), 0.0);
-    };
-    if (band > 0.0 && std::abs(ij[1] + 0.5 - 0.5 * ny) < nband) // a coarse cell of the band
-      for (int a = 0; a < 4; ++a)
-        add(x + 0.25 * dxc * V2(a % 2 ? 1.0 : -1.0, a / 2 ? 1.0 : -1.0), dx);
-    else
-      add(x, dxc);
-  });
-  const int vw = p.add_vector("v_wall"); // zero: the cylinder is at rest
-  wcsph_tvf::Fields f = wcsph_tvf::Fields::add_to(p, vw);
-  if (band > 0.0) {
-    f.h = p.add_scalar("h");
-    for (std::size_t i = 0; i < p.size(); ++i) // h = h_over_dx times the particle's spacing
-      p.scalar(f.h)[i] = i < n_wall ? o.h : o.h * std::sqrt(p.m[i] / m);
-  }
-  Domain<2> box;
-  box.lo = V2::Zero(), box.hi = V2(L, H);
-  box.periodic = {true, true};
-  wcsph_tvf::Scheme<2, K> scheme(p, f, box, o);
-  scheme.init();
+  double t_end() const override { return t_end_; }
+  // The case's own test after the sponge zones (after_step).
+  double speed_bound() const override { return std::numeric_limits<double>::infinity(); }
 
-  // --- loop state --------------------------------------------------------------------------
-  std::vector<double> ts, cds, cls, cdvs;
-  struct Bin {
-    double t = 0, cd = 0, cl = 0, cdv = 0, n = 0;
-  } bin;
-  double t = 0.0, next_sample = sample_interval, tv_ratio_max = 0.0, wall_before = 0.0;
-  bool nudged = !(nudge > 0.0);
-  long steps = 0;
-  RunResult res;
-  std::vector<double> loop, carried;
-  io::LoopCheckpoint<2> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
-                           p,
-                           {{"cfs/t", &ts},
-                            {"cfs/cd", &cds},
-                            {"cfs/cl", &cls},
-                            {"cfs/cdv", &cdvs},
-                            {"cfs/loop", &loop},
-                            {"cfs/scheme", &carried}});
-  if (auto at = ck.restore()) {
-    scheme.init();
-    scheme.restore_carried_state(carried);
-    io::expect_state_size(loop, 9, "cylinder_free_stream: checkpoint loop state");
-    bin = Bin{loop[0], loop[1], loop[2], loop[3], loop[4]};
-    next_sample = loop[5], tv_ratio_max = loop[6], nudged = loop[7] != 0.0;
-    wall_before = loop[8];
-    steps = at->first, t = at->second;
-    res.message = io::resumed_message(t, ctx.attempt);
+  // The smooth start: the whole box driven by dU_inf/dt.
+  void before_step(FlowScheme<2>& s, const LoopState& at) override {
+    s.set_body_acceleration(V2(du_inf(at.t), 0.0));
   }
-  auto wall_so_far = [&] {
-    return wall_before + std::chrono::duration<double>(clock::now() - t_start).count();
-  };
-  auto save_checkpoint = [&] {
-    loop = {bin.t,        bin.cd,      bin.cl,       bin.cdv,
-            bin.n,        next_sample, tv_ratio_max, nudged ? 1.0 : 0.0,
-            wall_so_far()};
-    carried = scheme.carried_state();
-    ck.save(steps, t);
-  };
-  auto flush_bin = [&] {
-    ts.push_back(bin.t / bin.n), cds.push_back(bin.cd / bin.n), cls.push_back(bin.cl / bin.n);
-    cdvs.push_back(bin.cdv / bin.n);
-    bin = Bin{};
-  };
-
-  const double q = 0.5 * rho0 * U * U * D;
-  while (t < t_end * (1.0 - 1e-12)) {
-    if (stop_if_cancelled(ctx, t, res, save_checkpoint))
-      return res;
-    scheme.set_body_acceleration(V2(du_inf(t), 0.0));
-    const wcsph_tvf::StepInfo info = scheme.advance_towards(t, t_end);
-    ++steps;
+  bool after_step(FlowScheme<2>& s, const LoopState& at, const StepStats& info) override {
+    Particles<2>& p = *p_;
+    const double t = at.t;
     // Sponge zone: relax towards the free stream.
     const V2 vinf(u_inf(t), 0.0);
     double vmax = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i) {
       if (p.kind[i] != Kind::Fluid)
         continue;
-      const double xi =
-          std::max({(p.r[i][0] - x_sponge) / Ls,
-                    Ly > 0.0 ? (std::abs(p.r[i][1] - 0.5 * H) - (0.5 * H - Ly)) / Ly : 0.0, 0.0});
+      const double xi = std::max(
+          {(p.r[i][0] - x_sponge_) / Ls_,
+           Ly_ > 0.0 ? (std::abs(p.r[i][1] - 0.5 * H_) - (0.5 * H_ - Ly_)) / Ly_ : 0.0, 0.0});
       if (xi > 0.0)
-        p.v[i] = vinf + std::exp(-sigma * xi * xi * info.Dt) * (p.v[i] - vinf);
+        p.v[i] = vinf + std::exp(-sigma_ * xi * xi * info.dt) * (p.v[i] - vinf);
       const double v2 = p.v[i].squaredNorm();
       vmax = std::max(vmax, std::isfinite(v2) ? std::sqrt(v2) : 1e300);
     }
-    if (!nudged && t >= ramp) {
+    if (!nudged_ && t >= ramp_) {
       for (std::size_t i = 0; i < p.size(); ++i)
         if (p.kind[i] == Kind::Fluid)
-          p.v[i][1] += nudge * U * std::exp(-(p.r[i] - c - V2(D, 0.0)).squaredNorm() / (D * D));
-      nudged = true;
+          p.v[i][1] += nudge_ * U * std::exp(-(p.r[i] - c_ - V2(D, 0.0)).squaredNorm() / (D * D));
+      nudged_ = true;
     }
     V2 Fv;
-    const V2 F = scheme.force_on_walls(&Fv);
-    if (vmax > speed_bound * U || !std::isfinite(F.squaredNorm())) {
-      res.status = RunStatus::Diverged;
-      res.message = "max speed " + std::to_string(vmax) + " at t = " + std::to_string(t);
-      res.add("t_diverged", t);
-      res.add("advection_steps", static_cast<double>(steps));
-      return res;
-    }
-    if (t >= t_settle && info.v_max > 0.0)
-      tv_ratio_max = std::max(tv_ratio_max, info.tv_max / info.v_max);
-    bin.t += t, bin.cd += F[0] / q, bin.cl += F[1] / q, bin.cdv += Fv[0] / q, bin.n += 1;
-    if (t >= next_sample * (1.0 - 1e-12)) {
+    const V2 F = s.force_on_walls(&Fv);
+    if (vmax > speed_bound_ * U || !std::isfinite(F.squaredNorm()))
+      throw std::runtime_error("max speed " + std::to_string(vmax));
+    if (t >= t_settle_ && info.v_max > 0.0)
+      tv_ratio_max_ = std::max(tv_ratio_max_, info.tv_max / info.v_max);
+    bin_.t += t, bin_.cd += F[0] / q, bin_.cl += F[1] / q, bin_.cdv += Fv[0] / q, bin_.n += 1;
+    if (t >= next_sample_ * (1.0 - 1e-12)) {
       flush_bin();
-      while (next_sample <= t * (1.0 + 1e-12))
-        next_sample += sample_interval;
+      while (next_sample_ <= t * (1.0 + 1e-12))
+        next_sample_ += sample_interval_;
     }
-    if (ck.due(steps))
-      save_checkpoint();
-    ctx.report(t / t_end);
+    return false;
   }
-  if (bin.n > 0)
-    flush_bin();
-  const double wall = wall_so_far();
 
-  // --- metrics -----------------------------------------------------------------------------
-  // The force series carry SPH particle noise (fluid particles sliding past the wall rings, the
-  // acoustic modes of the box) at frequencies of ~1-3 U/D: the shedding metrics use the Gaussian
-  // low-pass of the series (cl_rms_raw: the unfiltered lift's).
-  const double sigma_f = get_real(prm, "force_filter_sigma");
-  const std::vector<double> cd_f = diag::gaussian_lowpass(ts, cds, sigma_f);
-  const std::vector<double> cl_f = diag::gaussian_lowpass(ts, cls, sigma_f);
-  const AveragingWindow w = add_shedding_metrics(ts, cd_f, cl_f, t_settle, D / U, res);
-  res.add("t_average", w.t1 - w.t0);
-  const double cl_raw = diag::time_rms(ts, cls, w.t0, w.t1);
-  if (std::isfinite(cl_raw))
-    res.add("cl_rms_raw", cl_raw);
-  const double cd_viscous = diag::time_mean(ts, cdvs, w.t0, w.t1);
-  if (std::isfinite(cd_viscous))
-    res.add("cd_viscous_mean", cd_viscous);
-  res.add("tv_ratio_max", tv_ratio_max);
-  {
-    std::vector<double> sw;
-    scheme.number_density(sw);
-    double lo = 1e300, hi = -1e300;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.kind[i] == Kind::Fluid)
-        lo = std::min(lo, sw[i]), hi = std::max(hi, sw[i]);
-    res.add("sumW_spread_end", (hi - lo) / scheme.sigma0());
-  }
-  std::size_t n_fluid = 0;
-  for (const Kind k : p.kind)
-    n_fluid += k == Kind::Fluid;
-  const double N = static_cast<double>(p.size());
-  res.add("advection_steps", static_cast<double>(steps));
-  res.add("acoustic_steps", static_cast<double>(scheme.acoustic_steps()));
-  res.add("wall_s", wall);
-  res.add("time_per_particle_step_s", wall / (N * static_cast<double>(scheme.acoustic_steps())));
-  res.add("n_particles", N);
-  res.add("n_fluid", static_cast<double>(n_fluid));
+  void finish(FlowScheme<2>& s, const LoopState& at, RunResult& res) override {
+    const Particles<2>& p = *p_;
+    if (bin_.n > 0)
+      flush_bin();
+    const double wall = wall_so_far();
 
-  if (!ctx.output_dir.empty()) {
-    std::filesystem::create_directories(ctx.output_dir);
-    io::H5Writer h5(ctx.output_dir / "cylinder_free_stream.h5");
-    h5.attribute("case", "cylinder_free_stream");
-    h5.attribute("tvf", get_string(prm, "tvf"));
-    h5.attribute("Re", Re);
-    h5.attribute("D_over_dx", 1.0 / dx);
-    h5.attribute("t_settle", t_settle);
-    h5.attribute("force_filter_sigma", sigma_f);
-    h5.write_columns("series", {"t", "cd", "cl", "cd_viscous", "cd_filtered", "cl_filtered"},
-                     {ts, cds, cls, cdvs, cd_f, cl_f});
-    io::write_fluid_fields(h5, p);
-    h5.close();
+    // The force series carry SPH particle noise (fluid particles sliding past the wall rings, the
+    // acoustic modes of the box) at frequencies of ~1-3 U/D: the shedding metrics use the
+    // Gaussian low-pass of the series (cl_rms_raw: the unfiltered lift's).
+    const double sigma_f = get_real(prm_, "force_filter_sigma");
+    const std::vector<double> cd_f = diag::gaussian_lowpass(ts_, cds_, sigma_f);
+    const std::vector<double> cl_f = diag::gaussian_lowpass(ts_, cls_, sigma_f);
+    const AveragingWindow w = add_shedding_metrics(ts_, cd_f, cl_f, t_settle_, D / U, res);
+    res.add("t_average", w.t1 - w.t0);
+    const double cl_raw = diag::time_rms(ts_, cls_, w.t0, w.t1);
+    if (std::isfinite(cl_raw))
+      res.add("cl_rms_raw", cl_raw);
+    const double cd_viscous = diag::time_mean(ts_, cdvs_, w.t0, w.t1);
+    if (std::isfinite(cd_viscous))
+      res.add("cd_viscous_mean", cd_viscous);
+    res.add("tv_ratio_max", tv_ratio_max_);
+    {
+      // Sum_j W_ij (self term included) on the neighbour list of the final positions, over
+      // sigma0, its value on the perfect lattice of spacing dx.
+      const auto& nl = s.neighbors();
+      double W0 = 0.0, sigma0 = 0.0;
+      with_kernel<2>(s.kernel_name(), s.h(), [&](const auto& W) {
+        W0 = W.W(0.0);
+        sigma0 = wcsph_tvf::lattice_number_density<2>(W, dx_);
+      });
+      double lo = 1e300, hi = -1e300;
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (p.kind[i] == Kind::Fluid) {
+          double sw = W0;
+          for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k)
+            sw += nl.W[k];
+          lo = std::min(lo, sw), hi = std::max(hi, sw);
+        }
+      res.add("sumW_spread_end", (hi - lo) / sigma0);
+    }
+    std::size_t n_fluid = 0;
+    for (const Kind k : p.kind)
+      n_fluid += k == Kind::Fluid;
+    res.add("advection_steps", static_cast<double>(at.steps));
+    res.add("wall_s", wall);
+    res.add("n_fluid", static_cast<double>(n_fluid));
+
+    if (!ctx_.output_dir.empty()) {
+      std::filesystem::create_directories(ctx_.output_dir);
+      io::H5Writer h5(ctx_.output_dir / "cylinder_free_stream.h5");
+      h5.attribute("case", "cylinder_free_stream");
+      h5.attribute("tvf", get_string(prm_, "tvf"));
+      h5.attribute("Re", Re_);
+      h5.attribute("D_over_dx", 1.0 / dx_);
+      h5.attribute("t_settle", t_settle_);
+      h5.attribute("force_filter_sigma", sigma_f);
+      h5.write_columns("series", {"t", "cd", "cl", "cd_viscous", "cd_filtered", "cl_filtered"},
+                       {ts_, cds_, cls_, cdvs_, cd_f, cl_f});
+      io::write_fluid_fields(h5, p);
+      h5.close();
+    }
   }
-  ck.discard(); // the results are final
-  return res;
-}
+
+  std::vector<std::string> state_names() const override {
+    return {"cfs/t", "cfs/cd", "cfs/cl", "cfs/cdv", "cfs/loop"};
+  }
+  void save_state(StateArrays& out) const override {
+    out["cfs/t"] = ts_, out["cfs/cd"] = cds_, out["cfs/cl"] = cls_, out["cfs/cdv"] = cdvs_;
+    out["cfs/loop"] = {bin_.t,       bin_.cd,      bin_.cl,       bin_.cdv,
+                       bin_.n,       next_sample_, tv_ratio_max_, nudged_ ? 1.0 : 0.0,
+                       wall_so_far()};
+  }
+  void load_state(const StateArrays& in) override {
+    ts_ = in.at("cfs/t"), cds_ = in.at("cfs/cd"), cls_ = in.at("cfs/cl");
+    cdvs_ = in.at("cfs/cdv");
+    const auto& loop = in.at("cfs/loop");
+    io::expect_state_size(loop, 9, "cylinder_free_stream: checkpoint loop state");
+    bin_ = Bin{loop[0], loop[1], loop[2], loop[3], loop[4]};
+    next_sample_ = loop[5], tv_ratio_max_ = loop[6], nudged_ = loop[7] != 0.0;
+    wall_before_ = loop[8];
+  }
+
+private:
+  using clock = std::chrono::steady_clock;
+  static constexpr double D = 1.0, R = 0.5 * D, U = 1.0, rho0 = 1.0;
+  static constexpr double q = 0.5 * rho0 * U * U * D;
+  struct Bin {
+    double t = 0, cd = 0, cl = 0, cdv = 0, n = 0;
+  };
+
+  const Params& prm_;
+  const RunContext& ctx_;
+  double Re_, t_end_, dx_, t_settle_, ramp_, nudge_, Ls_, sigma_, Ly_, speed_bound_;
+  double sample_interval_;
+  double L_ = 0.0, H_ = 0.0, x_sponge_ = 0.0;
+  V2 c_ = V2::Zero();
+  Particles<2>* p_ = nullptr;
+
+  std::vector<double> ts_, cds_, cls_, cdvs_;
+  Bin bin_;
+  double next_sample_ = 0.0, tv_ratio_max_ = 0.0, wall_before_ = 0.0;
+  bool nudged_ = true;
+  clock::time_point t_start_ = clock::now();
+
+  double u_inf(double t) const {
+    return t < ramp_ ? 0.5 * U * (1.0 - std::cos(pi * t / ramp_)) : U;
+  }
+  double du_inf(double t) const {
+    return t < ramp_ ? 0.5 * U * pi / ramp_ * std::sin(pi * t / ramp_) : 0.0;
+  }
+  double wall_so_far() const {
+    return wall_before_ + std::chrono::duration<double>(clock::now() - t_start_).count();
+  }
+  void flush_bin() {
+    ts_.push_back(bin_.t / bin_.n), cds_.push_back(bin_.cd / bin_.n);
+    cls_.push_back(bin_.cl / bin_.n);
+    cdvs_.push_back(bin_.cdv / bin_.n);
+    bin_ = Bin{};
+  }
+};
 
 } // namespace
 
@@ -345,9 +363,8 @@ CaseInfo make_cylinder_free_stream_case() {
        1e3, true},
   };
   c.run = [](const Params& prm, const RunContext& ctx) {
-    omp_set_num_threads(std::max(1, ctx.threads));
-    return with_kernel<2>(get_string(prm, "kernel"), 1.0,
-                          [&](const auto& k) { return run<std::decay_t<decltype(k)>>(prm, ctx); });
+    CylinderFreeStream cfs(prm, ctx);
+    return run_flow_case<2>(cfs, prm, ctx, "wcsph_tvf");
   };
   return c;
 }

@@ -61,7 +61,8 @@ public:
 
   // Boundary hooks before each step.
   virtual void before_step(FlowScheme<D>&, const LoopState&) {}
-  // Probes after each step; true ends the run (e.g. a steady state).
+  // Probes after each step; true ends the run (e.g. a steady state). Throws std::runtime_error
+  // when the case finds the state broken (a divergence test of its own): the job is diverged.
   virtual bool after_step(FlowScheme<D>&, const LoopState&, const StepStats&) { return false; }
   // Final metrics and outputs (the loop adds the scheme's metrics and the costs after these).
   virtual void finish(FlowScheme<D>&, const LoopState&, RunResult&) = 0;
@@ -160,7 +161,12 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       }
     if (!(vmax <= bound))
       return diverged("velocity " + std::to_string(vmax));
-    const bool stop = c.after_step(*s, at, st);
+    bool stop = false;
+    try {
+      stop = c.after_step(*s, at, st);
+    } catch (const std::runtime_error& e) { // a broken state the case detects (a force not finite)
+      return diverged(e.what());
+    }
     if (stop)
       break;
     if (ck.due(at.steps))

@@ -46,6 +46,8 @@ struct Flow {
   double dx = 0.01;  // initial particle spacing
   double dt = 0.0;   // a fixed time step the case asks for (schemes with fixed steps: isph)
   int v_wall = -1;   // vector field: prescribed velocity of the solid particles (-1: at rest)
+  int h = -1;        // scalar field: per-particle smoothing length, variable resolution (-1: one
+                     // h from the scheme's h_over_dx dx); a scheme without it rejects the flow
   double nu() const { return U * L / Re; }
 };
 
@@ -92,6 +94,13 @@ public:
   virtual Vec<D> force_on_walls(Vec<D>* viscous = nullptr) {
     (void)viscous;
     throw std::logic_error("this scheme does not compute wall forces");
+  }
+
+  // A uniform body acceleration g (gravity, the driving of a smooth start) on the fluid from the
+  // next step on (zero until set); a scheme without body forces throws.
+  virtual void set_body_acceleration(const Vec<D>& g) {
+    (void)g;
+    throw std::logic_error("this scheme does not take a body acceleration");
   }
 
   // Named state carried from one step to the next besides the particle fields (checkpoints).

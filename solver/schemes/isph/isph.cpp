@@ -68,6 +68,8 @@ public:
       throw std::invalid_argument("isph: the flow must give the solid particles' velocity");
     if (!(flow.dt > 0.0))
       throw std::invalid_argument("isph: the flow must give a time step dt > 0");
+    if (flow.h >= 0)
+      throw std::invalid_argument("isph: no variable resolution (a per-particle h field)");
   }
 
   void init() override {

@@ -83,6 +83,7 @@ public:
   const std::string& kernel_name() const override { return o_.kernel; }
   double h() const override { return o_.h; }
   Vec<D> force_on_walls(Vec<D>* viscous) override { return s_.force_on_walls(viscous); }
+  void set_body_acceleration(const Vec<D>& g) override { s_.set_body_acceleration(g); }
 
   std::vector<std::string> state_names() const override { return {"wcsph_tvf/carried"}; }
   void save_state(StateArrays& out) const override {
@@ -114,7 +115,9 @@ private:
       for (std::size_t i = 0; i < p.size(); ++i)
         if (p.kind[i] == Kind::Wall)
           p.v[i] = p.vector(flow.v_wall)[i];
-    return Fields::add_to(p, flow.v_wall);
+    Fields f = Fields::add_to(p, flow.v_wall);
+    f.h = flow.h;
+    return f;
   }
 };
 
