@@ -32,6 +32,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <omp.h>
 #include <stdexcept>
@@ -275,6 +276,18 @@ void write_cavity_h5(const std::filesystem::path& output_dir, bool cylinder,
   w.write_columns("profile_y0.5", {"x", "uy"}, {prof.x_line, prof.uy_line});
   io::write_fluid_fields(w, p, true);
   w.close();
+}
+
+std::optional<std::string> cavity_dx_check(const Params& prm) {
+  const double dx = get_real(prm, "dx");
+  const long n = std::lround(1.0 / dx);
+  if (n >= 4 && std::abs(static_cast<double>(n) * dx - 1.0) <= 1e-9)
+    return std::nullopt;
+  char buf[160];
+  const long m = std::max(4L, n);
+  std::snprintf(buf, sizeof buf, "dx = %g: 1/dx must be an integer >= 4 (e.g. dx = 1/%ld = %g)", dx,
+                m, 1.0 / static_cast<double>(m));
+  return std::string(buf);
 }
 
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder) {

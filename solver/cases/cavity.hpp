@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ CavityGeometry cavity_geometry(const Params& prm, bool cylinder, double support)
 std::vector<ParamSpec> cavity_params(bool cylinder);
 
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder);
+
+// The cavity cases' constraint on their parameters (CaseInfo::check): 1/dx an integer >= 4.
+std::optional<std::string> cavity_dx_check(const Params& prm);
 
 // The steady-state criterion of the cavity cases: the time-weighted mean of E_k over consecutive
 // windows of length `window`; steady when two consecutive means differ by less than tol times the

@@ -4,10 +4,6 @@
 // diagnostics/cavity_profiles.hpp.
 #include "cases/cavity.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdio>
-
 namespace sph {
 
 CaseInfo make_lid_driven_cavity_case() {
@@ -17,18 +13,7 @@ CaseInfo make_lid_driven_cavity_case() {
   c.schemes = {"isph", "wcsph_tvf"};
   c.params = cavity_params(false);
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cavity(prm, ctx, false); };
-  // build_cavity's constraint, checked when the study is validated.
-  c.check = [](const Params& prm) -> std::optional<std::string> {
-    const double dx = get_real(prm, "dx");
-    const long n = std::lround(1.0 / dx);
-    if (n >= 4 && std::abs(static_cast<double>(n) * dx - 1.0) <= 1e-9)
-      return std::nullopt;
-    char buf[160];
-    const long m = std::max(4L, n);
-    std::snprintf(buf, sizeof buf, "dx = %g: 1/dx must be an integer >= 4 (e.g. dx = 1/%ld = %g)",
-                  dx, m, 1.0 / static_cast<double>(m));
-    return std::string(buf);
-  };
+  c.check = cavity_dx_check; // build_cavity's constraint, checked when the study is validated
   return c;
 }
 

@@ -292,6 +292,7 @@ CaseInfo make_lid_driven_cavity_3d_case() {
     cav.output_dir_ = ctx.output_dir;
     return run_flow_case<3>(cav, prm, ctx, "wcsph_tvf");
   };
+  c.check = cavity_dx_check; // the lattice's constraint, checked when the study is validated
   return c;
 }
 
