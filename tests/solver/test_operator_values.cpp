@@ -15,6 +15,7 @@
 #include "core/lattice.hpp"
 #include "operators/summation_density.hpp"
 #include "operators/viscous_laplacian.hpp"
+#include "operators/wall_velocity.hpp"
 #include "schemes/isph/isph.hpp"
 
 #include <gtest/gtest.h>
@@ -395,4 +396,35 @@ TEST(IsphOperators, PpeManufacturedSolutionOnPeriodicLattice) {
   EXPECT_NEAR(Afit / amp, 1.0 - e, 0.05 * e);
   EXPECT_LT(resid, 1e-3 * amp); // the pressure is the single mode
   EXPECT_NEAR(umax / (eps * k), 3 * e, 0.15 * 3 * e);
+}
+
+// No-slip wall velocity (Adami et al. 2012, eqs. 22-23): u_w = 2 u_prescribed - sum_f u_f W_wf /
+// sum_f W_wf over the fluid neighbours only. A wall row below a fluid with a linear velocity: the
+// Shepard average is computed here from the kernel, so u_w is known to round-off.
+TEST(WallVelocityValues, MirrorsTheShepardAverage) {
+  Lattice<2> L(12, 0.0, 1);
+  const Vec2 U(0.3, -0.1);
+  std::vector<Vec2> vw(L.p.size(), Vec2::Zero()), v(L.p.size());
+  for (std::size_t i = 0; i < L.p.size(); ++i) {
+    v[i] = Vec2(1.0 + 2.0 * L.p.r[i][1], 0.5 * L.p.r[i][0]);
+    if (!L.fluid(i))
+      vw[i] = U; // the padding acts as the wall, Buffer kind = not fluid
+  }
+  const std::vector<Vec2> v0 = v;
+  WallVelocity<2> op{L.p.kind, vw, v};
+  interact(L.nl, op, [&](std::size_t i) { return !L.fluid(i); });
+  int checked = 0;
+  for (std::size_t i = 0; i < L.p.size(); ++i) {
+    if (L.fluid(i))
+      continue;
+    Vec2 s = Vec2::Zero();
+    double w = 0.0;
+    for (auto q = L.nl.offset[i]; q < L.nl.offset[i + 1]; ++q)
+      if (L.fluid(L.nl.j[q]))
+        s += L.nl.W[q] * v0[L.nl.j[q]], w += L.nl.W[q];
+    const Vec2 expect = w > 0 ? Vec2(2.0 * U - s / w) : U;
+    ASSERT_LT((v[i] - expect).norm(), 1e-13) << i;
+    checked += w > 0;
+  }
+  EXPECT_GT(checked, 40);
 }
