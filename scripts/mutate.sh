@@ -39,8 +39,9 @@ done
 OUT="${OUT:-$SCRATCH/result.md}"
 SRC="$SCRATCH/src" BUILD="$SCRATCH/src/build"
 mkdir -p "$SRC"
-# Sync the working tree (not .git, not build dirs); keep the scratch build for incremental builds.
-rsync -a --delete --exclude .git --exclude '/build*' --exclude /results "$ROOT/" "$SRC/" || exit 1
+# Copy the working tree (not .git, not build dirs) into the scratch copy, writing only the files
+# that differ so the scratch build stays incremental (scripts/sync_tree.py).
+python3 "$ROOT/scripts/sync_tree.py" "$ROOT" "$SRC" || exit 1
 
 CTEST_ARGS=(--timeout 600 -j"$JOBS" --stop-on-failure)
 [ -n "$REGEX" ] && CTEST_ARGS+=(-R "$REGEX")
