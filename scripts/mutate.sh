@@ -12,19 +12,21 @@
 #   build error     the mutated code does not compile (not counted as caught: fix the mutation).
 # The unmutated baseline must build and pass first.
 #
-# Usage: scripts/mutate.sh [-R CTEST_REGEX] [-E CTEST_EXCLUDE] [-m ID_REGEX] [-j JOBS]
+# Usage: scripts/mutate.sh [-R CTEST_REGEX] [-E CTEST_EXCLUDE] [-m ID_REGEX] [-j JOBS] [-S]
 #                          [-d SCRATCH_DIR] [-l LIST] [-o RESULT_TABLE]
 #   -R / -E   ctest -R / -E subset of the suite (default: the whole suite)
 #   -m        only the mutations whose ID matches this extended regex
 #   -j        build and ctest parallelism (default 2)
 #   -d        scratch directory (default /tmp/sph-mutate); reused, so reruns build incrementally
 #   -o        Markdown result table (default SCRATCH_DIR/result.md)
+#   -S        build only the runner and the tests/solver executables (with -E excluding the
+#             runner's own tests, which then are not rebuilt: faster)
 # It takes long (one incremental build and one suite run per mutation): run it outside CI, e.g.
 #   nohup scripts/mutate.sh > /tmp/mutate.log 2>&1 &
 set -uo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-REGEX="" EXCLUDE="" ONLY="" JOBS=2 SCRATCH=/tmp/sph-mutate LIST="$ROOT/scripts/mutations.txt" OUT=""
-while getopts "R:E:m:j:d:l:o:" opt; do
+SOLVER_ONLY=0 REGEX="" EXCLUDE="" ONLY="" JOBS=2 SCRATCH=/tmp/sph-mutate LIST="$ROOT/scripts/mutations.txt" OUT=""
+while getopts "R:E:m:j:d:l:o:S" opt; do
   case $opt in
   R) REGEX="$OPTARG" ;;
   E) EXCLUDE="$OPTARG" ;;
@@ -33,6 +35,7 @@ while getopts "R:E:m:j:d:l:o:" opt; do
   d) SCRATCH="$OPTARG" ;;
   l) LIST="$OPTARG" ;;
   o) OUT="$OPTARG" ;;
+  S) SOLVER_ONLY=1 ;;
   *) sed -n '2,25p' "$0"; exit 2 ;;
   esac
 done
@@ -45,7 +48,11 @@ python3 "$ROOT/scripts/sync_tree.py" "$ROOT" "$SRC" || exit 1
 
 CTEST_ARGS=(--timeout 600 -j"$JOBS" --stop-on-failure)
 
-build() { cmake --build "$BUILD" -j"$JOBS" >"$SCRATCH/build.log" 2>&1; }
+TARGETS=()
+if [ "$SOLVER_ONLY" = 1 ]; then
+  TARGETS=(--target runner $(sed -n 's/^sph_unit_test(\([A-Za-z0-9_]*\).*/\1/p' "$SRC/tests/solver/CMakeLists.txt"))
+fi
+build() { cmake --build "$BUILD" -j"$JOBS" "${TARGETS[@]}" >"$SCRATCH/build.log" 2>&1; }
 # Without -R, two phases: everything but the study scripts first (seconds), then the study quick
 # tiers; ctest stops at the first failure, so a caught mutation usually costs only the first phase.
 run_tests() {
