@@ -46,10 +46,14 @@ struct Uniform {
 } // namespace
 
 // D = (m / rho)^(1/2) = D0 here. Acoustic: 0.3 D0 / (c0 + |U|); viscous: 0.125 D0^2 rho / (eta +
-// zeta eta_num). With |U| = 50, eta_num = 2e-3 Pa s given: acoustic 1.957e-12 s, viscous
-// 1.25e-12 s (zeta = 0) and 0.4167e-12 s (zeta = 1). Exact (1e-12 relative).
+// zeta eta_num). With |U| = 50, eta = 10 mPa s and eta_num = 2 mPa s given: acoustic 1.957e-12 s,
+// viscous 1.25e-12 s (zeta = 0) and 1.04e-12 s (zeta = 1), so the viscous limit is the one that
+// acts. Exact (1e-12 relative).
 TEST(ContactTerms, TimeStepCriteria) {
   Uniform u(12, 1.0, Vec2(30.0, 40.0));
+  const double eta = 1e-2;
+  for (std::size_t i = 0; i < u.p.size(); ++i)
+    u.p.scalar(u.f.eta)[i] = eta;
   u.o.eta_num = 2e-3;
   const double ac = 0.3 * Uniform::D0 / (Uniform::c0 + 50.0);
   const double vi = 0.125 * Uniform::D0 * Uniform::D0 * Uniform::rho0;
@@ -57,7 +61,8 @@ TEST(ContactTerms, TimeStepCriteria) {
     u.o.zeta = zeta;
     Scheme<2, WendlandC2<2>> s(u.p, u.f, u.box, u.o);
     s.init();
-    const double expect = std::min(ac, vi / (Uniform::eta + zeta * 2e-3));
+    const double expect = std::min(ac, vi / (eta + zeta * 2e-3));
+    EXPECT_LT(expect, ac); // the viscous limit acts
     EXPECT_NEAR(s.stable_dt(), expect, 1e-12 * expect) << zeta;
   }
   // Inviscid: the acoustic limit alone.
