@@ -293,6 +293,14 @@ TEST(LidDrivenCavity, ShortRunRecordsProfileMetrics) {
   EXPECT_GT(metric(r, "ux_at_y_0.9766"), 0.0);
   EXPECT_TRUE(std::isfinite(metric(r, "uy_at_x_0.0625")));
   EXPECT_LT(metric(r, "ux_min"), 0.0);
+  // Value bands (issue 15): what this deterministic run measured (dx = 0.1, Re = 100, t = 0.2),
+  // 3 % for floating-point differences between builds; a defect in the viscous term, the wall
+  // velocity or the projection moves these early-time extrema by more (VISC-02 alone differs
+  // from VISC-04 by 8 % in the quick tier).
+  EXPECT_NEAR(metric(r, "ux_min"), -0.040423, 0.03 * 0.040423);
+  EXPECT_NEAR(metric(r, "uy_max"), 0.020724, 0.03 * 0.020724);
+  EXPECT_NEAR(metric(r, "uy_min"), -0.023332, 0.03 * 0.023332);
+  EXPECT_NEAR(metric(r, "ke"), 0.0027047, 0.03 * 0.0027047);
   EXPECT_EQ(metric(r, "steps"), 40.0);
   EXPECT_GT(metric(r, "ppe_share"), 0.0);
   int n_ux = 0;

@@ -11,5 +11,9 @@ if [ "$bad" != 0 ]; then
   q "SELECT key, state FROM jobs WHERE state <> 'done'"
   fail "$bad job(s) of $3 did not end done"
 fi
+# Value bands of this study's quick tier, when it has them (tests/studies/bands_<study>.sh).
+if [ -f "$(dirname "$0")/bands_$3.sh" ]; then
+  source "$(dirname "$0")/bands_$3.sh"
+fi
 render_reports "$3"
 echo "$3 quick tier: OK"

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # CI check of the contact-SPH studies (seed 003, issue 5): the quick tiers of
 # studies/godunov_eta_num.toml, godunov_zeta.toml and godunov_cylinders.toml run through the
-# runner into a fresh database (seconds); the metrics the issue names are recorded; the correction
-# lowers profile_err (shear layer) and the drag K (cylinder array); the paper tiers expand to
+# runner into a fresh database (seconds); the metrics the issue names are recorded and lie in value
+# bands (the correction lowers profile_err of the shear layer and the drag K of the cylinder array);
+# the paper tiers expand to
 # their job counts; the reports render. Usage: godunov.sh RUNNER SOURCE_DIR
 RUNNER="$1" SRC="$2"
 source "$(dirname "$0")/lib.sh"
@@ -18,10 +19,31 @@ done
 for m in K CD CD_eq39 CD_ratio U_drift drag_balance wall_s; do
   expect_metric_count godunov_cylinders "$m" 2
 done
-# The correction removes numerical viscosity: lower profile_err for lead, lower drag K.
-lead() { q "SELECT value FROM job_metrics WHERE study = 'godunov_zeta' AND metric = 'profile_err' AND json_extract(params, '$.material_left') = '' AND json_extract(params, '$.zeta') = $1"; }
-awk -v a="$(lead 1.0)" -v b="$(lead 0.0)" 'BEGIN { exit !(a < b) }' || fail "profile_err(zeta = 1) >= profile_err(zeta = 0)"
-cyl() { q "SELECT value FROM job_metrics WHERE study = 'godunov_cylinders' AND metric = 'K' AND json_extract(params, '$.zeta') = $1"; }
-awk -v a="$(cyl 1.0)" -v b="$(cyl 0.0)" 'BEGIN { exit !(a < b) }' || fail "K(zeta = 1) >= K(zeta = 0)"
+# Value bands (issue 15, section 2): the values the quick tier measured (deterministic: one
+# OpenMP thread, no random input) with tolerances for floating-point differences between builds
+# that a physics defect exceeds. eta_fit of an inviscid liquid is the scheme's numerical viscosity,
+# 1.14-1.17 times eq. (37) here: 5 %; profile_err 8-10 %; with zeta = 1 the fitted viscosity of lead
+# (eta = 2.3 mPa s) is 5.0 mPa s against 25 mPa s uncorrected: 10 %; the cylinder array's
+# permeability K and C_D ratio to eq. (39): 5 % (zeta = 1 changes K sixfold); drag_balance (force on
+# the solids over the driving force, 1 in the steady state) to 1e-4 and 0.02 (not yet steady at
+# zeta = 1). The orderings the study is about (profile_err and K smaller with zeta = 1) follow.
+expect_band godunov_eta_num eta_fit "material=water" 0.0015107 7.6e-05
+expect_band godunov_eta_num profile_err "material=water" 0.23564 0.019
+expect_band godunov_eta_num eta_fit "material=lead" 0.022558 0.0011
+expect_band godunov_eta_num profile_err "material=lead" 0.25435 0.02
+expect_band godunov_eta_num eta_fit "material=tungsten" 0.079898 0.004
+expect_band godunov_eta_num profile_err "material=tungsten" 0.30733 0.025
+expect_band godunov_zeta eta_fit "material=lead material_left= zeta=0.0" 0.025188 0.0013
+expect_band godunov_zeta profile_err "material=lead material_left= zeta=0.0" 0.18992 0.019
+expect_band godunov_zeta eta_fit "material=lead material_left= zeta=1.0" 0.0050274 0.0005
+expect_band godunov_zeta profile_err "material=lead material_left= zeta=1.0" 0.054044 0.0054
+expect_band godunov_zeta eta_fit_left "material_left=paraffin" 0.19848 0.0099
+expect_band godunov_zeta eta_fit_right "material_left=paraffin" 1.8329 0.092
+expect_band godunov_cylinders K "zeta=0.0" 1198.9 60.0
+expect_band godunov_cylinders CD_ratio "zeta=0.0" 22.695 1.1
+expect_band godunov_cylinders drag_balance "zeta=0.0" 1.0 0.0001
+expect_band godunov_cylinders K "zeta=1.0" 200.5 10.0
+expect_band godunov_cylinders CD_ratio "zeta=1.0" 3.7956 0.19
+expect_band godunov_cylinders drag_balance "zeta=1.0" 0.87026 0.02
 render_reports godunov_eta_num godunov_zeta godunov_cylinders
 echo "godunov quick tiers: OK"

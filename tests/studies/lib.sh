@@ -43,3 +43,31 @@ render_reports() {
       fail "report of $s"
   done
 }
+
+# expect_band STUDY METRIC WHERE VALUE TOL: exactly one done-or-diverged row of METRIC in STUDY
+# matches WHERE, and its value lies in VALUE +- TOL. WHERE is "-" (no filter) or space-separated
+# key=value pairs on the job's parameters (json_extract(params, '$.key') = value; numbers compare as
+# numbers, anything else as a string). A band is the value the quick tier measured with a
+# tolerance a real defect exceeds; each call site says where its band comes from.
+expect_band() {
+  local study="$1" metric="$2" where="$3" value="$4" tol="$5" cond="" kv k v
+  if [ "$where" != "-" ]; then
+    for kv in $where; do
+      k="${kv%%=*}" v="${kv#*=}"
+      if [[ "$v" =~ ^-?[0-9.]+([eE][-+]?[0-9]+)?$ ]]; then
+        cond="$cond AND json_extract(params, '\$.$k') = $v"
+      else
+        cond="$cond AND json_extract(params, '\$.$k') = '$v'"
+      fi
+    done
+  fi
+  local sel="FROM job_metrics WHERE study = '$study' AND metric = '$metric'$cond"
+  local n
+  n="$(q "SELECT count(*) $sel")"
+  [ "$n" = 1 ] || fail "band $study/$metric [$where]: $n matching rows (expected 1)"
+  local got
+  got="$(q "SELECT value $sel")"
+  awk -v g="$got" -v c="$value" -v t="$tol" 'BEGIN { d = g - c; if (d < 0) d = -d; exit !(d <= t) }' ||
+    fail "band $study/$metric [$where]: $got outside $value +- $tol"
+  echo "  band ok: $study/$metric [$where] = $got in $value +- $tol"
+}

@@ -15,11 +15,19 @@ for m in cd_mean cl_rms cd_viscous_mean cd_amplitude cl_amplitude tv_ratio_max; 
 done
 # m METRIC BAND: the metric of the uniform (0) or the variable-resolution (2) job.
 m() { q "SELECT value FROM job_metrics WHERE study = 'tvf_cylinder' AND metric = '$1' AND json_extract(params, '$.refinement_band') = $2"; }
-for b in 0 2; do
-  awk -v d="$(m cd_mean $b)" -v v="$(m cd_viscous_mean $b)" 'BEGIN { exit !(d > 0.5 && v > 0 && v < d) }' ||
-    fail "refinement_band $b: cd_mean $(m cd_mean $b), cd_viscous_mean $(m cd_viscous_mean $b)"
-done
-# The refined box has fewer particles than the uniform one at the same D/dx.
+# Value bands (issue 15, section 2), replacing the former sign checks (cd_mean > 0.5, 0 <
+# cd_viscous_mean < cd_mean): the values the quick tier measured (deterministic: one OpenMP thread,
+# fixed perturbation seed) with tolerances for floating-point differences between builds that a
+# defect exceeds: cd_mean and cd_viscous_mean 5 % (2 mu -> mu halves the viscous part, 0.285), cl_rms
+# 10 % (one shedding period in 8 time units), n_fluid exact.
+expect_band tvf_cylinder cd_mean "refinement_band=0.0" 1.2378 0.062
+expect_band tvf_cylinder cd_viscous_mean "refinement_band=0.0" 0.28544 0.014
+expect_band tvf_cylinder cl_rms "refinement_band=0.0" 0.27297 0.027
+expect_band tvf_cylinder n_fluid "refinement_band=0.0" 7584.0 0.0
+expect_band tvf_cylinder cd_mean "refinement_band=2.0" 1.0123 0.051
+expect_band tvf_cylinder cd_viscous_mean "refinement_band=2.0" 0.28266 0.014
+expect_band tvf_cylinder cl_rms "refinement_band=2.0" 0.46302 0.046
+expect_band tvf_cylinder n_fluid "refinement_band=2.0" 3344.0 0.0
 awk -v a="$(m n_fluid 2)" -v b="$(m n_fluid 0)" 'BEGIN { exit !(a < 0.7 * b) }' ||
   fail "n_fluid: refined $(m n_fluid 2), uniform $(m n_fluid 0)"
 render_reports tvf_cylinder

@@ -1,0 +1,263 @@
+// Scheme "wcsph_tvf" (seed 002), each term alone on a field whose answer is known (issue 15,
+// section 1). Written against today's ops:: structs and Scheme class of
+// schemes/wcsph_tvf/wcsph_tvf.hpp; each test needs only a term's inputs and outputs, so it ports
+// to the Scheme interface of issue 14 by replacing the call.
+//  - viscous force: zero on a linear shear, 2 mu S on u = (y^2, 0) with S the lattice's quadrature
+//    factor, and the mirrored wall partner 2 v_wall - v_i;
+//  - pressure force: -V G S1 / D for a linear pressure, and hydrostatic balance with the kernel
+//    correction;
+//  - body force: v = g Dt after one step of a periodic lattice at rest;
+//  - Riemann dissipation: its value on one approaching / separating pair, every limiter setting;
+//  - density summation, equation of state and the two time-step criteria.
+#include "core/kernels/wendland_c2.hpp"
+#include "operators/correction_matrix.hpp"
+#include "padded_lattice.hpp"
+#include "schemes/wcsph_tvf/wcsph_tvf.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace sph;
+using namespace sph::wcsph_tvf;
+using sph::testing::PaddedLattice;
+
+namespace {
+
+using Lat = PaddedLattice<WendlandC2<2>>;
+constexpr double h_over_dx = 1.3; // the seed's h = 1.3 dx
+
+} // namespace
+
+// F^nu_i = V_i sum_j 2 mu (v_i - v_j) / (r_ij + eps h) V_j dW_ij. On a point-symmetric lattice the
+// odd part of v_i - v_j cancels, so a linear shear u = (a y, 0) (plane Couette) gives exactly zero,
+// and u = (y^2, 0) (lap u = (2, 0), the start-up Poiseuille profile's curvature) gives
+//   F^nu_i / V_i = (2 mu S, 0),  S = -sum V r_y^2 dW / (r + eps h)   (S -> 1 in the continuum),
+// S summed here over the lattice offsets from the kernel alone. Exact up to round-off: tolerance
+// 1e-10 relative. A factor error in mu (2 mu -> mu) halves it.
+TEST(WcsphTvfTerms, ViscousForceOnShearFields) {
+  Lat L(16, h_over_dx);
+  const double mu = 0.05, eps_h = 0.01 * L.kernel.h;
+  const double S = L.offset_sum([&](const Vec2& r, double d) {
+    return -L.dx * L.dx * r[1] * r[1] * L.kernel.dW(d) / (d + eps_h);
+  });
+  // S itself is 0.964 for the Wendland C2 kernel at h = 1.3 dx (lattice quadrature and eps h).
+  std::vector<Vec2> F(L.p.size());
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    L.p.v[i] = Vec2(0.7 * L.p.r[i][1], 0.0);
+  ops::ViscousForce<2> lin{L.p, nullptr, mu, eps_h, F};
+  interact(L.nl, lin, L.sampled());
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    if (L.fluid(i))
+      ASSERT_LT(F[i].norm() / L.p.V[i], 1e-10 * mu) << i;
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    L.p.v[i] = Vec2(L.p.r[i][1] * L.p.r[i][1], 0.0);
+  ops::ViscousForce<2> quad{L.p, nullptr, mu, eps_h, F};
+  interact(L.nl, quad, L.sampled());
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    if (L.fluid(i)) {
+      ASSERT_NEAR(F[i][0] / L.p.V[i], 2 * mu * S, 1e-10 * mu) << i;
+      ASSERT_NEAR(F[i][1] / L.p.V[i], 0.0, 1e-10 * mu) << i;
+    }
+}
+
+// A wall partner w enters with the no-slip velocity 2 v_wall - v_i [notes 2c], so one pair gives
+// F_i = V_i 2 mu (v_i - (2 v_wall - v_i)) V_w dW / (r + eps h) = 4 mu V_i V_w dW / (r + eps h)
+// (v_i - v_wall): the value of one pair, exact.
+TEST(WcsphTvfTerms, ViscousForceMirrorsTheWallVelocity) {
+  Particles<2> p;
+  p.add(Vec2(0.0, 0.1), 0.5, 1.0);
+  p.add(Vec2(0.0, 0.0), 0.25, 1.0, Kind::Wall);
+  p.V[0] = 0.5, p.V[1] = 0.25;
+  p.v[0] = Vec2(1.0, 0.2);
+  std::vector<Vec2> vw{Vec2::Zero(), Vec2(3.0, 0.0)};
+  std::vector<Vec2> F(2);
+  const double mu = 0.1, eps_h = 0.001, r = 0.1, dW = -2.0;
+  ops::ViscousForce<2> op{p, vw.data(), mu, eps_h, F};
+  auto a = op.init(0);
+  op.pair(0, Pair<2>{1, Vec2(0.0, r), r, 0.5, dW}, a);
+  op.finish(0, a);
+  const Vec2 expect = 4 * mu * 0.5 * 0.25 * dW / (r + eps_h) * (p.v[0] - vw[1]);
+  EXPECT_LT((F[0] - expect).norm(), 1e-14);
+}
+
+// F^p_i = -V_i sum_j (p_i + p_j) V_j dW_ij e_ij. For p = p0 + G . x on a perfect lattice the sum
+// of p_i over the point-symmetric pairs vanishes and F^p_i = -V_i (S1 / D) G with S1 = -sum V r dW
+// (-> D): exact up to round-off. With the kernel correction (B_i = B_j = (S1 / D)^-1 I on the
+// lattice) F^p_i = -V_i G exactly: a hydrostatic column p = rho g (y0 - y) is in balance,
+// F^p_i + m_i g = 0. Tolerance 1e-10 relative to |V G|.
+TEST(WcsphTvfTerms, PressureForceOnLinearAndHydrostaticPressure) {
+  Lat L(16, h_over_dx);
+  const double S1 =
+      L.offset_sum([&](const Vec2&, double d) { return -L.dx * L.dx * d * L.kernel.dW(d); });
+  // S1 / D is 0.974 here (Wendland C2, h = 1.3 dx): the lattice's quadrature factor.
+  const Vec2 G(3.0, -2.0);
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    L.p.p[i] = 5.0 + G.dot(L.p.r[i]);
+  std::vector<Vec2> zero(L.p.size(), Vec2::Zero()), F(L.p.size());
+  std::vector<double> drho(L.p.size());
+  ops::FirstHalf<2> plain{L.p, nullptr, zero, nullptr, 0.0, 0.1, F, drho};
+  interact(L.nl, plain, L.sampled());
+  const double scale = L.p.V[0] * G.norm();
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    if (L.fluid(i)) {
+      ASSERT_LT((F[i] + L.p.V[i] * S1 / 2 * G).norm(), 1e-10 * scale) << i;
+      ASSERT_NEAR(drho[i], 0.0, 1e-10) << i; // sum (p_i - p_j) V dW: odd, cancels
+    }
+  // Hydrostatic column with the kernel correction.
+  std::vector<Mat<2>> B(L.p.size());
+  std::vector<double> tr(L.p.size());
+  CorrectionMatrix<2> cm{L.p.V, B, tr};
+  interact(L.nl, cm);
+  const Vec2 g(0.0, -9.81);
+  const double rho = 1.0;
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    L.p.p[i] = rho * g.dot(L.p.r[i] - Vec2(0.0, 1.0));
+  ops::FirstHalf<2> corr{L.p, &B, zero, nullptr, 0.0, 0.1, F, drho};
+  interact(L.nl, corr, L.sampled());
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    if (L.fluid(i))
+      ASSERT_LT((F[i] + L.p.m[i] * g).norm(), 1e-10 * L.p.m[i] * g.norm()) << i;
+}
+
+// The Riemann dissipation of one pair (2nd half): F_i = V_i rho0 c0 beta u V_j dW e with
+// u = (v_i - v_j) . e, e = r_ij / r (from j to i), and the continuity part drho_i = rho_i u V_j dW.
+// Values by hand for V_i = 0.5, V_j = 0.25, dW = -2, rho0 c0 = 10, c0 = 10:
+//  approaching (u = -1): full beta = 1, F_i = 0.5 10 (-1) 0.25 (-2) e = +2.5 e (pushes i away);
+//                        limited "compression" beta = min(3 1 / 10, 1) = 0.3: F_i = 0.75 e;
+//                        limited "expansion": 0;
+//  separating (u = +1):  limited "expansion" beta = 0.3, F_i = -0.75 e; full: -2.5 e.
+TEST(WcsphTvfTerms, RiemannDissipationOnAJump) {
+  Particles<2> p;
+  p.add(Vec2(1.0, 0.0), 0.5, 1.0);
+  p.add(Vec2(0.0, 0.0), 0.25, 1.0);
+  p.V[0] = 0.5, p.V[1] = 0.25;
+  const Vec2 e(1.0, 0.0);
+  auto run = [&](double u, Dissipation d, LimiterSign s, Vec2& F, double& drho) {
+    p.v[0] = Vec2(0.5 * u, 0.3), p.v[1] = Vec2(-0.5 * u, 0.3);
+    Options o;
+    o.c0 = 10.0, o.dissipation = d, o.sign = s;
+    std::vector<double> dr(2, 0.0);
+    std::vector<Vec2> f(2);
+    ops::SecondHalf<2> op{p, nullptr, o, 10.0, dr, f};
+    auto a = op.init(0);
+    op.pair(0, Pair<2>{1, Vec2(1.0, 0.0), 1.0, 0.1, -2.0}, a);
+    op.finish(0, a);
+    F = f[0], drho = dr[0];
+  };
+  Vec2 F;
+  double drho;
+  run(-1.0, Dissipation::Full, LimiterSign::Expansion, F, drho);
+  EXPECT_LT((F - 2.5 * e).norm(), 1e-14);
+  EXPECT_NEAR(drho, 1.0 * (-1.0) * 0.25 * (-2.0), 1e-14); // compression: density grows
+  run(-1.0, Dissipation::Limited, LimiterSign::Compression, F, drho);
+  EXPECT_LT((F - 0.75 * e).norm(), 1e-14);
+  run(-1.0, Dissipation::Limited, LimiterSign::Expansion, F, drho);
+  EXPECT_LT(F.norm(), 1e-14);
+  run(1.0, Dissipation::Limited, LimiterSign::Expansion, F, drho);
+  EXPECT_LT((F + 0.75 * e).norm(), 1e-14);
+  run(1.0, Dissipation::Full, LimiterSign::Expansion, F, drho);
+  EXPECT_LT((F + 2.5 * e).norm(), 1e-14);
+  run(1.0, Dissipation::None, LimiterSign::Expansion, F, drho);
+  EXPECT_LT(F.norm(), 1e-14);
+}
+
+namespace {
+// A periodic lattice of n^2 particles at spacing s dx (s < 1: compressed), at rest.
+struct Periodic {
+  Particles<2> p;
+  Fields f;
+  Domain<2> box;
+  Options o;
+  Periodic(int n, double s = 1.0) {
+    const double dx = 1.0 / n;
+    for_each_lattice_point<2>(
+        {0, 0}, {n, n}, s * dx,
+        [&](const Vec2& x, const std::array<int, 2>&) { p.add(x, dx * dx, 1.0); });
+    f = Fields::add_to(p);
+    box.hi = Vec2::Constant(n * s * dx);
+    box.periodic = {true, true};
+    o.dx = dx, o.h = h_over_dx * dx, o.mu = 0.01, o.c0 = 10.0;
+  }
+};
+} // namespace
+
+// Density summation (eq. 8) gives rho0 on the lattice it was normalised on, and
+// rho0 sum_j W(s r_j) / sum_j W(r_j) on that lattice compressed by s per axis (the sums over the
+// lattice offsets r_j, self term included, computed here from the kernel); the equation of state
+// p = c0^2 (rho - rho0) then holds on every particle after a step (rho, p uniform, so nothing
+// moves). Round-off tolerances.
+TEST(WcsphTvfTerms, DensitySummationAndEquationOfState) {
+  {
+    Periodic s(16);
+    Scheme<2, WendlandC2<2>> sc(s.p, s.f, s.box, s.o);
+    sc.init();
+    std::vector<double> sumW(s.p.size());
+    ops::DensitySummation<2> op{s.p, sc.kernel().W(0.0), 1.0, sc.sigma0(), sumW};
+    interact(sc.neighbors(), op);
+    for (std::size_t i = 0; i < s.p.size(); ++i)
+      ASSERT_NEAR(s.p.rho[i], 1.0, 1e-12);
+    sc.advance(1e-4);
+    for (std::size_t i = 0; i < s.p.size(); ++i)
+      ASSERT_NEAR(s.p.rho[i], 1.0, 1e-12);
+  }
+  const double c = 0.98, dx = 1.0 / 16;
+  const WendlandC2<2> W(h_over_dx * dx);
+  double s1 = 0, sc_ = 0;
+  for (int a = -4; a <= 4; ++a)
+    for (int b = -4; b <= 4; ++b) {
+      const double r = dx * std::hypot(a, b);
+      s1 += W.W(r), sc_ += W.W(c * r);
+    }
+  const double rho_c = sc_ / s1;
+  EXPECT_NEAR(rho_c, 1.0 / (c * c), 2e-3); // ~ the area ratio
+  Periodic s(16, c);
+  Scheme<2, WendlandC2<2>> sc(s.p, s.f, s.box, s.o);
+  sc.init();
+  sc.advance(1e-4);
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    ASSERT_NEAR(s.p.rho[i], rho_c, 1e-12) << i;
+    ASSERT_NEAR(s.p.p[i], 100.0 * (rho_c - 1.0), 1e-9) << i;
+  }
+}
+
+// A body acceleration g on a periodic lattice at rest: every other term vanishes (uniform density,
+// pressure and velocity on a perfect lattice), so after one advection step Dt, v = g Dt and the
+// lattice has moved by g Dt^2 / 2 (position Verlet), to round-off.
+TEST(WcsphTvfTerms, BodyForceAccelerates) {
+  Periodic s(16);
+  s.o.tvf = Tvf::None;
+  Scheme<2, WendlandC2<2>> sc(s.p, s.f, s.box, s.o);
+  sc.init();
+  const Vec2 g(0.3, -0.1);
+  sc.set_body_acceleration(g);
+  const double Dt = 2e-3;
+  sc.advance(Dt);
+  for (std::size_t i = 0; i < s.p.size(); ++i)
+    ASSERT_LT((s.p.v[i] - g * Dt).norm(), 1e-12) << i;
+}
+
+// Time steps (eqs. 9-11) on a periodic lattice moving at |v| = 2 (> U_ref = 1 > nu / h) before any
+// force was computed: Dt_ac = 0.6 h / (c0 + 2), Dt_ad = 0.25 h / 2. Exact.
+TEST(WcsphTvfTerms, TimeStepCriteria) {
+  Periodic s(16);
+  for (auto& v : s.p.v)
+    v = Vec2(1.2, 1.6);
+  Scheme<2, WendlandC2<2>> sc(s.p, s.f, s.box, s.o);
+  sc.init();
+  const double h = s.o.h;
+  EXPECT_NEAR(sc.acoustic_dt(), 0.6 * h / 12.0, 1e-15);
+  EXPECT_NEAR(sc.advection_dt(), 0.25 * h / 2.0, 1e-15);
+  for (auto& v : s.p.v)
+    v = Vec2::Zero();
+  EXPECT_NEAR(sc.advection_dt(), 0.25 * h / 1.0, 1e-15); // U_ref
+}
+
+// The TVF limiter (eq. 15) and dissipation limiter (eq. 6) as functions, by hand.
+TEST(WcsphTvfTerms, LimiterValues) {
+  EXPECT_NEAR(tvf_limiter(100.0, 0.01, 40.0), 0.4, 1e-15);
+  EXPECT_NEAR(tvf_limiter(100.0, 0.01, 400.0), 1.0, 1e-15);
+  Options o; // defaults: limited, expansion, eta = 3, c0 = 10
+  EXPECT_NEAR(dissipation_beta(o, 1.0), 0.3, 1e-15);
+  EXPECT_NEAR(dissipation_beta(o, -1.0), 0.0, 1e-15);
+}
