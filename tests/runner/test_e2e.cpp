@@ -94,9 +94,9 @@ TEST(RunnerE2E, QueryPrintsCsvWithHeader) {
   EXPECT_CONTAINS(cases.out, "patch_test");
   // Every scheme's parameters, with default, range and doc (from the scheme's ParamTable).
   EXPECT_CONTAINS(cases.out, "scheme wcsph_tvf: ");
-  EXPECT_CONTAINS(cases.out, "cfl_ad         real   default 0.25             (0, 1]; advection CFL");
+  EXPECT_CONTAINS(cases.out, "cfl_ad         real   default 0.25             (0.0, 1.0]; advection CFL");
   EXPECT_CONTAINS(cases.out, "scheme isph: ");
-  EXPECT_CONTAINS(cases.out, "visc           string default visc04           one of ");
+  EXPECT_CONTAINS(cases.out, "visc           string default \"visc04\"         one of ");
 }
 
 TEST(RunnerE2E, BadStudyIsRejectedAndTheDatabaseIsUntouched) {
