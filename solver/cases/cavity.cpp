@@ -123,10 +123,8 @@ namespace {
 
 class Cavity final : public FlowCase<2> {
 public:
-  Cavity(const Params& prm, bool cylinder) : prm_(prm), cylinder_(cylinder) {
+  Cavity(const Params& prm, bool cylinder) : prm_(prm), cylinder_(cylinder), mon_(prm, "cavity") {
     Re_ = get_real(prm, "Re"), dx_ = get_real(prm, "dx");
-    t_end_ = get_real(prm, "t_end"), out_dt_ = get_real(prm, "output_interval");
-    steady_.window = get_real(prm, "steady_window"), steady_.tol = get_real(prm, "steady_tol");
   }
 
   Flow<2> build(Particles<2>& p) override {
@@ -142,31 +140,17 @@ public:
     f.dt = get_real(prm_, "dt");
     return f;
   }
-  void start(FlowScheme<2>& s) override {
-    sample(s, 0.0, 0.0);
-    next_out_ = out_dt_;
-  }
-  double t_end() const override { return t_end_; }
+  void start(FlowScheme<2>& s) override { mon_.start(*p_, s); }
+  double t_end() const override { return mon_.t_end(); }
   double speed_bound() const override { return 20.0 * g_.U0; }
 
-  void before_step(FlowScheme<2>& s, const LoopState& at) override {
-    s.measure_next_step(sample_due(at.t + s.stable_dt()));
-  }
+  void before_step(FlowScheme<2>& s, const LoopState& at) override { mon_.before_step(s, at.t); }
   bool after_step(FlowScheme<2>& s, const LoopState& at, const StepStats& st) override {
-    const double ke = kinetic_energy(*p_), drho = density_dev();
-    drho_max_ = std::max(drho_max_, drho);
-    if (sample_due(at.t)) {
-      sample(s, at.t, drho, ke);
-      while (next_out_ <= at.t * (1.0 + 1e-12))
-        next_out_ += out_dt_;
-    }
-    steady_now_ = steady_.add(ke, st.dt);
-    return steady_now_;
+    return mon_.after_step(*p_, s, at.t, st.dt);
   }
 
   void finish(FlowScheme<2>& s, const LoopState& at, RunResult& res) override {
-    if (!(hist_[0].size() && hist_[0].back() == at.t))
-      sample(s, at.t, density_dev());
+    mon_.finish(*p_, s, at.t);
     s.wall_velocities_for_output();
     const double R = 0.5 * g_.cylinder_d;
     auto use = [&](std::size_t) { return true; };
@@ -177,79 +161,33 @@ public:
     });
     res.add("ke", kinetic_energy(*p_));
     res.add("t_stop", at.t);
-    res.add("steady", steady_now_ ? 1.0 : 0.0);
-    res.add("density_dev_max", drho_max_);
+    res.add("steady", mon_.steady() ? 1.0 : 0.0);
+    res.add("density_dev_max", mon_.density_dev_max());
     res.add("n_fluid", static_cast<double>(n_fluid_));
     CavityAttributes attrs{{}, {{"Re", Re_}, {"dx", dx_}, {"t_stop", at.t}}};
     for (const auto& [k, v] : prm_)
       if (auto str = std::get_if<std::string>(&v))
         attrs.text.emplace_back(k, *str);
-    write_cavity_h5(output_dir_, cylinder_, attrs, hist_names_, hist_, prof, *p_);
+    write_cavity_h5(output_dir_, cylinder_, attrs, mon_.history_names(), mon_.history(), prof, *p_);
   }
   std::string summary(const LoopState& at) const override {
-    return cavity_run_message(steady_now_, at.t, "");
+    return cavity_run_message(mon_.steady(), at.t, "");
   }
 
-  std::vector<std::string> state_names() const override {
-    std::vector<std::string> n{"cavity/loop"};
-    for (const auto& h : hist_names_)
-      n.push_back("cavity/history/" + h);
-    return n;
-  }
-  void save_state(StateArrays& out) const override {
-    std::vector<double> a = steady_.state();
-    a.push_back(next_out_), a.push_back(drho_max_);
-    out["cavity/loop"] = a;
-    for (std::size_t k = 0; k < hist_names_.size(); ++k)
-      out["cavity/history/" + hist_names_[k]] = hist_[k];
-  }
-  void load_state(const StateArrays& in) override {
-    const auto& a = in.at("cavity/loop");
-    io::expect_state_size(a, 5, "checkpoint array cavity/loop");
-    steady_.restore(a), next_out_ = a[3], drho_max_ = a[4];
-    for (std::size_t k = 0; k < hist_names_.size(); ++k)
-      hist_[k] = in.at("cavity/history/" + hist_names_[k]);
-  }
+  std::vector<std::string> state_names() const override { return mon_.state_names(); }
+  void save_state(StateArrays& out) const override { mon_.save_state(out); }
+  void load_state(const StateArrays& in) override { mon_.load_state(in); }
 
   std::filesystem::path output_dir_;
 
 private:
   const Params& prm_;
   bool cylinder_;
-  double Re_, dx_, t_end_, out_dt_;
+  CavityMonitor<2> mon_;
+  double Re_, dx_;
   CavityGeometry g_;
   Particles<2>* p_ = nullptr;
   std::size_t n_fluid_ = 0;
-  SteadyWindow steady_;
-  bool steady_now_ = false;
-  double next_out_ = 0.0, drho_max_ = 0.0;
-  std::vector<std::string> hist_names_;
-  std::vector<std::vector<double>> hist_;
-
-  bool sample_due(double t) const {
-    return t >= next_out_ * (1.0 - 1e-12) || t >= t_end_ * (1.0 - 1e-12);
-  }
-  double density_dev() const {
-    double d = 0.0;
-    for (std::size_t i = 0; i < p_->size(); ++i)
-      if (p_->kind[i] == Kind::Fluid)
-        d = std::max(d, std::abs(p_->rho[i] - 1.0)); // rho0 = 1
-    return d;
-  }
-  // One history row: t, E_k, density deviation and the scheme's probes (named on first use).
-  void sample(const FlowScheme<2>& s, double t, double drho, double ke = -1.0) {
-    std::vector<std::pair<std::string, double>> row{
-        {"t", t}, {"ke", ke < 0.0 ? kinetic_energy(*p_) : ke}, {"density_dev", drho}};
-    for (auto& pr : s.probes())
-      row.push_back(pr);
-    if (hist_names_.empty()) {
-      for (auto& [n, v] : row)
-        hist_names_.push_back(n);
-      hist_.resize(row.size());
-    }
-    for (std::size_t k = 0; k < row.size() && k < hist_.size(); ++k)
-      hist_[k].push_back(row[k].second);
-  }
 };
 
 } // namespace

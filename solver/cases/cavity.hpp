@@ -14,6 +14,9 @@
 #include "cases/case.hpp"
 #include "core/particles.hpp"
 #include "diagnostics/cavity_profiles.hpp"
+#include "diagnostics/profiles.hpp"
+#include "io/checkpoint.hpp"
+#include "schemes/scheme.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -38,7 +41,8 @@ int build_cavity(Particles<2>& p, const CavityGeometry& g);
 // wall layers one kernel support deep.
 CavityGeometry cavity_geometry(const Params& prm, bool cylinder, double support);
 
-// The cases' own parameters (Re, dx, dt, t_end, steady-state criterion, output interval).
+// The cases' own parameters (Re, dx, dt, t_end, steady-state criterion, output interval); the
+// 3D cavity takes them with its own defaults.
 std::vector<ParamSpec> cavity_params(bool cylinder);
 
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder);
@@ -66,8 +70,100 @@ struct SteadyWindow {
     prev = mean;
     return false;
   }
-  std::vector<double> state() const { return {sum, span, prev}; }
-  void restore(const std::vector<double>& s) { sum = s.at(0), span = s.at(1), prev = s.at(2); }
+};
+
+// What the 2D and 3D cavity cases watch while they run, the same for both (their FlowCase hooks
+// call it): the steady window (parameters steady_window, steady_tol), the largest |rho / rho0 - 1|
+// of the fluid (rho0 = 1), and the history sampled every output_interval and at t_end: t, E_k,
+// density deviation and the scheme's probes; the scheme is asked for its costly diagnostics on the
+// steps that end on a sample. Its checkpoint state is named under `prefix`.
+template <int D>
+class CavityMonitor {
+public:
+  CavityMonitor(const Params& prm, std::string prefix)
+      : prefix_(std::move(prefix)), t_end_(get_real(prm, "t_end")),
+        out_dt_(get_real(prm, "output_interval")) {
+    steady_.window = get_real(prm, "steady_window"), steady_.tol = get_real(prm, "steady_tol");
+  }
+
+  void start(const Particles<D>& p, const FlowScheme<D>& s) {
+    sample(p, s, 0.0, kinetic_energy(p), 0.0);
+    next_out_ = out_dt_;
+  }
+  void before_step(FlowScheme<D>& s, double t) { s.measure_next_step(due(t + s.stable_dt())); }
+  // After a step of length dt that reached t; true when the flow is steady.
+  bool after_step(const Particles<D>& p, const FlowScheme<D>& s, double t, double dt) {
+    const double ke = kinetic_energy(p), drho = density_dev(p);
+    drho_max_ = std::max(drho_max_, drho);
+    if (due(t)) {
+      sample(p, s, t, ke, drho);
+      while (next_out_ <= t * (1.0 + 1e-12))
+        next_out_ += out_dt_;
+    }
+    steady_now_ = steady_.add(ke, dt);
+    return steady_now_;
+  }
+  // The last history row at the end time t, unless the last step sampled it already.
+  void finish(const Particles<D>& p, const FlowScheme<D>& s, double t) {
+    if (!(hist_[0].size() && hist_[0].back() == t))
+      sample(p, s, t, kinetic_energy(p), density_dev(p));
+  }
+
+  double t_end() const { return t_end_; }
+  bool steady() const { return steady_now_; }
+  double density_dev_max() const { return drho_max_; }
+  const std::vector<std::string>& history_names() const { return names_; }
+  const std::vector<std::vector<double>>& history() const { return hist_; }
+
+  std::vector<std::string> state_names() const {
+    std::vector<std::string> n{prefix_ + "/loop"};
+    for (const auto& h : names_)
+      n.push_back(prefix_ + "/history/" + h);
+    return n;
+  }
+  void save_state(StateArrays& out) const {
+    out[prefix_ + "/loop"] = {steady_.sum, steady_.span, steady_.prev, next_out_, drho_max_};
+    for (std::size_t k = 0; k < names_.size(); ++k)
+      out[prefix_ + "/history/" + names_[k]] = hist_[k];
+  }
+  void load_state(const StateArrays& in) {
+    const auto& a = in.at(prefix_ + "/loop");
+    io::expect_state_size(a, 5, "checkpoint array " + prefix_ + "/loop");
+    steady_.sum = a[0], steady_.span = a[1], steady_.prev = a[2], next_out_ = a[3];
+    drho_max_ = a[4];
+    for (std::size_t k = 0; k < names_.size(); ++k)
+      hist_[k] = in.at(prefix_ + "/history/" + names_[k]);
+  }
+
+private:
+  std::string prefix_;
+  double t_end_, out_dt_;
+  SteadyWindow steady_;
+  bool steady_now_ = false;
+  double next_out_ = 0.0, drho_max_ = 0.0;
+  std::vector<std::string> names_; // named by the first sample
+  std::vector<std::vector<double>> hist_;
+
+  bool due(double t) const { return t >= next_out_ * (1.0 - 1e-12) || t >= t_end_ * (1.0 - 1e-12); }
+  static double density_dev(const Particles<D>& p) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == Kind::Fluid)
+        d = std::max(d, std::abs(p.rho[i] - 1.0)); // rho0 = 1
+    return d;
+  }
+  void sample(const Particles<D>& p, const FlowScheme<D>& s, double t, double ke, double drho) {
+    std::vector<std::pair<std::string, double>> row{{"t", t}, {"ke", ke}, {"density_dev", drho}};
+    for (auto& pr : s.probes())
+      row.push_back(pr);
+    if (names_.empty()) {
+      for (auto& [n, v] : row)
+        names_.push_back(n);
+      hist_.resize(row.size());
+    }
+    for (std::size_t k = 0; k < row.size() && k < hist_.size(); ++k)
+      hist_[k].push_back(row[k].second);
+  }
 };
 
 // The end of a cavity run, common to its schemes: the job's message ("steady at t = ..." or

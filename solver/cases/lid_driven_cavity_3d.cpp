@@ -6,7 +6,7 @@
 // layers one kernel support deep on the same lattice; the wall particles above z = 1 (the whole top
 // band, edges included) form the lid moving at (U0, 0, 0), U0 = 1; the others are at rest
 // (no-slip). rho0 = 1, m = rho0 dx^3, nu = U0 L / Re. Steady state and sampling as the 2D cavity
-// (cases/cavity.hpp: SteadyWindow over steady_window, history every output_interval).
+// (cases/cavity.hpp: CavityMonitor, the steady window and the history of both cases).
 //
 // Profiles on the mid-plane y = 0.5 (Shepard interpolation with the scheme's kernel, the walls
 // carrying their no-slip mirror velocity): u_x along the vertical centreline x = 0.5 and u_z along
@@ -32,6 +32,7 @@
 
 #include <array>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 namespace sph {
@@ -58,10 +59,8 @@ constexpr double ref_u_min = -0.2803833, ref_w_min = -0.4350186, ref_w_max = 0.2
 
 class Cavity3D final : public FlowCase<3> {
 public:
-  explicit Cavity3D(const Params& prm) : prm_(prm) {
+  explicit Cavity3D(const Params& prm) : prm_(prm), mon_(prm, "cavity3d") {
     Re_ = get_real(prm, "Re"), dx_ = get_real(prm, "dx");
-    t_end_ = get_real(prm, "t_end"), out_dt_ = get_real(prm, "output_interval");
-    steady_.window = get_real(prm, "steady_window"), steady_.tol = get_real(prm, "steady_tol");
   }
 
   Flow<3> build(Particles<3>& p) override {
@@ -91,29 +90,17 @@ public:
     f.dt = get_real(prm_, "dt");
     return f;
   }
-  void start(FlowScheme<3>& s) override {
-    sample(s, 0.0, 0.0);
-    next_out_ = out_dt_;
-  }
-  double t_end() const override { return t_end_; }
+  void start(FlowScheme<3>& s) override { mon_.start(*p_, s); }
+  double t_end() const override { return mon_.t_end(); }
   double speed_bound() const override { return 20.0 * U0; }
 
-  void before_step(FlowScheme<3>& s, const LoopState& at) override {
-    s.measure_next_step(sample_due(at.t + s.stable_dt()));
-  }
+  void before_step(FlowScheme<3>& s, const LoopState& at) override { mon_.before_step(s, at.t); }
   bool after_step(FlowScheme<3>& s, const LoopState& at, const StepStats& st) override {
-    const double ke = kinetic_energy(*p_), drho = density_dev();
-    drho_max_ = std::max(drho_max_, drho);
-    if (sample_due(at.t)) {
-      sample(s, at.t, drho);
-      while (next_out_ <= at.t * (1.0 + 1e-12))
-        next_out_ += out_dt_;
-    }
-    steady_now_ = steady_.add(ke, st.dt);
-    return steady_now_;
+    return mon_.after_step(*p_, s, at.t, st.dt);
   }
 
   void finish(FlowScheme<3>& s, const LoopState& at, RunResult& res) override {
+    mon_.finish(*p_, s, at.t);
     s.wall_velocities_for_output();
     constexpr int n_fine = 201;
     std::vector<Vec3> pts;
@@ -170,8 +157,8 @@ public:
     }
     res.add("ke", kinetic_energy(*p_));
     res.add("t_stop", at.t);
-    res.add("steady", steady_now_ ? 1.0 : 0.0);
-    res.add("density_dev_max", drho_max_);
+    res.add("steady", mon_.steady() ? 1.0 : 0.0);
+    res.add("density_dev_max", mon_.density_dev_max());
     res.add("n_fluid", static_cast<double>(n_fluid_));
     if (!output_dir_.empty()) {
       io::H5Writer w(output_dir_ / "lid_driven_cavity_3d.h5");
@@ -179,74 +166,29 @@ public:
         if (auto str = std::get_if<std::string>(&v))
           w.attribute(k, *str);
       w.attribute("Re", Re_), w.attribute("dx", dx_), w.attribute("t_stop", at.t);
-      w.write_columns("history", hist_names_, hist_);
+      w.write_columns("history", mon_.history_names(), mon_.history());
       w.write_columns("profile_x0.5", {"z", "ux"}, {zl, ul});
       w.write_columns("profile_z0.5", {"x", "uz"}, {xl, wl});
       w.close();
     }
   }
   std::string summary(const LoopState& at) const override {
-    return cavity_run_message(steady_now_, at.t, "");
+    return cavity_run_message(mon_.steady(), at.t, "");
   }
 
-  std::vector<std::string> state_names() const override {
-    std::vector<std::string> n{"cavity3d/loop"};
-    for (const auto& h : hist_names_)
-      n.push_back("cavity3d/history/" + h);
-    return n;
-  }
-  void save_state(StateArrays& out) const override {
-    std::vector<double> a = steady_.state();
-    a.push_back(next_out_), a.push_back(drho_max_);
-    out["cavity3d/loop"] = a;
-    for (std::size_t k = 0; k < hist_names_.size(); ++k)
-      out["cavity3d/history/" + hist_names_[k]] = hist_[k];
-  }
-  void load_state(const StateArrays& in) override {
-    const auto& a = in.at("cavity3d/loop");
-    io::expect_state_size(a, 5, "checkpoint array cavity3d/loop");
-    steady_.restore(a), next_out_ = a[3], drho_max_ = a[4];
-    for (std::size_t k = 0; k < hist_names_.size(); ++k)
-      hist_[k] = in.at("cavity3d/history/" + hist_names_[k]);
-  }
+  std::vector<std::string> state_names() const override { return mon_.state_names(); }
+  void save_state(StateArrays& out) const override { mon_.save_state(out); }
+  void load_state(const StateArrays& in) override { mon_.load_state(in); }
 
   std::filesystem::path output_dir_;
 
 private:
   static constexpr double U0 = 1.0;
   const Params& prm_;
-  double Re_, dx_, t_end_, out_dt_;
+  CavityMonitor<3> mon_;
+  double Re_, dx_;
   Particles<3>* p_ = nullptr;
   std::size_t n_fluid_ = 0;
-  SteadyWindow steady_;
-  bool steady_now_ = false;
-  double next_out_ = 0.0, drho_max_ = 0.0;
-  std::vector<std::string> hist_names_;
-  std::vector<std::vector<double>> hist_;
-
-  bool sample_due(double t) const {
-    return t >= next_out_ * (1.0 - 1e-12) || t >= t_end_ * (1.0 - 1e-12);
-  }
-  double density_dev() const {
-    double d = 0.0;
-    for (std::size_t i = 0; i < p_->size(); ++i)
-      if (p_->kind[i] == Kind::Fluid)
-        d = std::max(d, std::abs(p_->rho[i] - 1.0)); // rho0 = 1
-    return d;
-  }
-  void sample(const FlowScheme<3>& s, double t, double drho) {
-    std::vector<std::pair<std::string, double>> row{
-        {"t", t}, {"ke", kinetic_energy(*p_)}, {"density_dev", drho}};
-    for (auto& pr : s.probes())
-      row.push_back(pr);
-    if (hist_names_.empty()) {
-      for (auto& [n, v] : row)
-        hist_names_.push_back(n);
-      hist_.resize(row.size());
-    }
-    for (std::size_t k = 0; k < row.size() && k < hist_.size(); ++k)
-      hist_[k].push_back(row[k].second);
-  }
 };
 
 CaseInfo make_lid_driven_cavity_3d_case() {
@@ -255,38 +197,14 @@ CaseInfo make_lid_driven_cavity_3d_case() {
   c.description = "Lid-driven cubic cavity, mid-plane profiles (Wang, Haidn & Hu, seed 002, "
                   "section 4.5; Albensoeder & Kuhlmann 2005 at Re = 1000)";
   c.schemes = {"wcsph_tvf", "isph"};
-  c.params = {
-      {"Re", ParamType::Real, 100.0, "Reynolds number U0 L / nu (U0 = L = 1)", 0.0, {}, true},
-      {"dx", ParamType::Real, 0.05, "particle spacing (1/dx must be an integer)", 0.0, 0.25, true},
-      {"dt",
-       ParamType::Real,
-       0.002,
-       "time step (isph; wcsph_tvf takes its own dual-criteria steps)",
-       0.0,
-       {},
-       true},
-      {"t_end", ParamType::Real, 20.0, "end time unless steady earlier", 0.0, {}, true},
-      {"steady_tol", ParamType::Real, 5e-4,
-       "stop when the means of E_k over two consecutive windows differ by less than steady_tol "
-       "times the last (0: run to t_end)",
-       0.0, 1.0},
-      {"steady_window",
-       ParamType::Real,
-       2.0,
-       "length of the E_k averaging window (time)",
-       0.0,
-       {},
-       true},
-      {"output_interval",
-       ParamType::Real,
-       0.1,
-       "time between samples of the E_k history",
-       0.0,
-       {},
-       true,
-       {},
-       false},
-  };
+  // The 2D cavity's parameters, with defaults for the cube.
+  c.params = cavity_params(false);
+  const std::map<std::string, double> defaults{
+      {"Re", 100.0}, {"dx", 0.05}, {"dt", 0.002}, {"t_end", 20.0}};
+  for (auto& spec : c.params)
+    if (auto it = defaults.find(spec.name); it != defaults.end())
+      spec.default_value = it->second;
+
   c.run = [](const Params& prm, const RunContext& ctx) {
     Cavity3D cav(prm);
     cav.output_dir_ = ctx.output_dir;
