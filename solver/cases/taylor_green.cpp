@@ -88,7 +88,12 @@ public:
     f.rho0 = rho0, f.U = U, f.L = L, f.Re = Re_, f.dx = dx;
     return f;
   }
-  void start(FlowScheme<2>&) override {
+  void start(FlowScheme<2>& s) override {
+    // W(0) and sigma0 (sum_j W_ij on the perfect lattice) of the scheme's kernel, once.
+    with_kernel<2>(s.kernel_name(), s.h(), [&](const auto& W) {
+      W0_ = W.W(0.0);
+      sigma0_ = wcsph_tvf::lattice_number_density<2>(W, L / n_);
+    });
     ke0_ = kinetic_energy(*p_); // every particle is fluid
     s_ = {{0.0}, {ke0_}, {ke0_}, {umax()}, {U}, {0.0}, {0.0}, {0.0}};
   }
@@ -195,7 +200,9 @@ private:
   int n_;
   double Re_, t_end_, b_;
   Particles<2>* p_ = nullptr;
-  double ke0_ = 0.0, tv_ratio_max_ = 0.0, spread_max_ = 0.0, spread_ = 0.0, sigma0_ = 0.0;
+  double ke0_ = 0.0, tv_ratio_max_ = 0.0, spread_max_ = 0.0, spread_ = 0.0;
+  double W0_ = 0.0, sigma0_ = 1.0;
+  std::vector<double> sw_;             // number_density's buffer
   std::vector<std::vector<double>> s_; // the series, named by names()
   clock::time_point t0_ = clock::now();
 
@@ -210,27 +217,21 @@ private:
       v = std::max(v, p_->v[i].norm());
     return v;
   }
-  // Sum_j W_ij (self term included) of every particle on the scheme's current neighbour list,
-  // and sigma0, its value on the perfect lattice.
-  std::vector<double> number_density(const FlowScheme<2>& s) const {
+  // Sum_j W_ij (self term included) of every particle on the scheme's current neighbour list
+  // (into a buffer kept across steps).
+  const std::vector<double>& number_density(const FlowScheme<2>& s) {
     const auto& nl = s.neighbors();
-    const double W0 =
-        with_kernel<2>(s.kernel_name(), s.h(), [](const auto& W) { return W.W(0.0); });
-    std::vector<double> out(p_->size());
+    sw_.resize(p_->size());
     for (std::size_t i = 0; i < p_->size(); ++i) {
-      double w = W0;
+      double w = W0_;
       for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k)
         w += nl.W[k];
-      out[i] = w;
+      sw_[i] = w;
     }
-    return out;
+    return sw_;
   }
   // Spread and RMS of sum_j W_ij / sigma0 - 1 over the particles, sigma0 the perfect lattice's.
-  void sumw_stats(const std::vector<double>& w, double& spread, double& rms) {
-    if (!(sigma0_ > 0.0))
-      sigma0_ = with_kernel<2>(
-          get_string(prm_, "kernel"), get_real(prm_, "h_over_dx") * (L / n_),
-          [&](const auto& W) { return wcsph_tvf::lattice_number_density<2>(W, L / n_); });
+  void sumw_stats(const std::vector<double>& w, double& spread, double& rms) const {
     double lo = 1e300, hi = -1e300, sq = 0.0;
     for (double x : w) {
       const double y = x / sigma0_;
