@@ -30,18 +30,17 @@
 //   U_drift    |U_s(t_end) - U_s(0.8 t_end)| / U_s(t_end): how close to steady the flow is
 //   drag_balance  the drag measured on the solid particles (pair forces) over the body force on
 //              the fluid, g M_fluid: 1 in a steady state
-// Cost: steps, wall_s, wall_per_step_s, n_fluid, n_solid.
-#include "cases/case.hpp"
-#include "cases/contact_step.hpp"
+// Cost (besides the time loop's): wall_s, wall_per_step_s, n_fluid, n_solid.
+// Runs on the shared time loop (cases/time_loop.hpp) with scheme contact; the drive is the
+// scheme's body acceleration; checkpoints carry the samples taken so far.
 #include "cases/materials.hpp"
-#include "core/kernels/kernel.hpp"
+#include "cases/time_loop.hpp"
 #include "core/lattice.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
-#include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
-#include <omp.h>
 #include <stdexcept>
 
 namespace sph {
@@ -66,132 +65,151 @@ double k_dilute(double c) {
          (-0.5 * std::log(c) - 0.738 + c - 0.887 * c * c + 2.038 * c * c * c);
 }
 
-RunResult run_cylinder_array(const Params& prm, const RunContext& ctx) {
-  constexpr int D = 2;
-  const auto wall0 = std::chrono::steady_clock::now();
-  omp_set_num_threads(std::max(1, ctx.threads));
-  const Material* mat = find_material(get_string(prm, "material"));
-  if (!mat)
-    throw std::invalid_argument("cylinder_array: unknown material '" + get_string(prm, "material") +
-                                "'");
-  const double rho0 = mat->rho0, c0 = mat->c0;
-  const double eta = get_real(prm, "eta") >= 0.0 ? get_real(prm, "eta") : mat->eta;
-  if (!(eta > 0.0))
-    throw std::invalid_argument("cylinder_array: the fluid needs a viscosity eta > 0 (material '" +
-                                std::string(mat->key) + "' has none in Table 1: set eta)");
-  const double d = get_real(prm, "d");
-  const int n_d = static_cast<int>(get_int(prm, "n_d"));
-  const double D0 = d / n_d;
-  const int N = static_cast<int>(std::lround(n_d / get_real(prm, "d_over_S")));
-  const double S = N * D0, a = 0.5 * d;
-  if (S <= d + 2.0 * D0)
-    throw std::invalid_argument("cylinder_array: d_over_S too close to 1 for n_d = " +
-                                std::to_string(n_d) + " (less than 2 particles in the gap)");
-  const double c = std::numbers::pi * a * a / (S * S);
-  const double U_target = get_real(prm, "Re") * eta / (rho0 * d);
-  const double G = k_dilute(c) * eta * U_target / (S * S);
-  const double t_end = get_real(prm, "t_end_visc") * S * S * rho0 / eta;
+class CylinderArrayCase final : public FlowCase<2> {
+public:
+  explicit CylinderArrayCase(const Params& prm) : prm_(prm) {
+    const Material* mat = find_material(get_string(prm, "material"));
+    if (!mat)
+      throw std::invalid_argument("cylinder_array: unknown material '" +
+                                  get_string(prm, "material") + "'");
+    rho0_ = mat->rho0, c0_ = mat->c0;
+    eta_ = get_real(prm, "eta") >= 0.0 ? get_real(prm, "eta") : mat->eta;
+    if (!(eta_ > 0.0))
+      throw std::invalid_argument(
+          "cylinder_array: the fluid needs a viscosity eta > 0 (material '" +
+          std::string(mat->key) + "' has none in Table 1: set eta)");
+    d_ = get_real(prm, "d");
+    const int n_d = static_cast<int>(get_int(prm, "n_d"));
+    D0_ = d_ / n_d;
+    N_ = static_cast<int>(std::lround(n_d / get_real(prm, "d_over_S")));
+    S_ = N_ * D0_;
+    if (S_ <= d_ + 2.0 * D0_)
+      throw std::invalid_argument("cylinder_array: d_over_S too close to 1 for n_d = " +
+                                  std::to_string(n_d) + " (less than 2 particles in the gap)");
+    const double a = 0.5 * d_;
+    c_ = std::numbers::pi * a * a / (S_ * S_);
+    const double U_target = get_real(prm, "Re") * eta_ / (rho0_ * d_);
+    G_ = k_dilute(c_) * eta_ * U_target / (S_ * S_);
+    t_end_ = get_real(prm, "t_end_visc") * S_ * S_ * rho0_ / eta_;
+  }
 
-  contact::Options opt = contact::options_from(prm);
-  opt.g = {G / rho0, 0.0, 0.0};
-
-  return with_kernel<D>(get_string(prm, "kernel"), 1.0, [&](const auto& kernel_tag) {
-    using K = std::decay_t<decltype(kernel_tag)>;
-    const double Rs = contact::search_radius<K>(opt, 1.05 * D0);
-    if (S < 3.0 * Rs)
-      throw std::invalid_argument("cylinder_array: the cell (S = " + std::to_string(N) +
+  Flow<2> build(Particles<2>& p) override {
+    p_ = &p;
+    const double Rs = contact::search_radius(prm_, 1.05 * D0_);
+    if (S_ < 3.0 * Rs)
+      throw std::invalid_argument("cylinder_array: the cell (S = " + std::to_string(N_) +
                                   " D0) is smaller than 3 search radii; raise n_d");
-    Particles<D> p;
     const contact::Fields f = contact::Fields::add_to(p);
-    const double vol = D0 * D0;
-    std::size_t n_fluid = 0;
-    for_each_lattice_point<D>({0, 0}, {N, N}, D0, [&](Vec<D> x, const std::array<int, D>&) {
-      x[0] -= 0.5 * S, x[1] -= 0.5 * S;
+    const double vol = D0_ * D0_, a = 0.5 * d_;
+    for_each_lattice_point<2>({0, 0}, {N_, N_}, D0_, [&](Vec<2> x, const std::array<int, 2>&) {
+      x[0] -= 0.5 * S_, x[1] -= 0.5 * S_;
       const double r = x.norm();
       if (r < a - 1.05 * Rs)
         return;
       const bool solid = r < a;
-      const std::size_t i = p.add(x, rho0 * vol, rho0, solid ? Kind::Wall : Kind::Fluid);
-      p.scalar(f.rho0)[i] = rho0;
-      p.scalar(f.c0)[i] = c0;
-      p.scalar(f.eta)[i] = eta;
-      n_fluid += !solid;
+      const std::size_t i = p.add(x, rho0_ * vol, rho0_, solid ? Kind::Wall : Kind::Fluid);
+      p.scalar(f.rho0)[i] = rho0_;
+      p.scalar(f.c0)[i] = c0_;
+      p.scalar(f.eta)[i] = eta_;
+      n_fluid_ += !solid;
     });
-    double M_fluid = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
       if (p.kind[i] == Kind::Fluid)
-        M_fluid += p.m[i];
+        M_fluid_ += p.m[i];
+    n_solid_ = p.size() - n_fluid_;
 
-    Domain<D> box;
-    box.lo[0] = box.lo[1] = -0.5 * S;
-    box.hi[0] = box.hi[1] = 0.5 * S;
-    box.periodic[0] = box.periodic[1] = true;
-    contact::Scheme<D, K> scheme(p, f, box, opt);
-    scheme.init();
+    Flow<2> flow;
+    flow.box.lo = Vec<2>::Constant(-0.5 * S_);
+    flow.box.hi = Vec<2>::Constant(0.5 * S_);
+    flow.box.periodic = {true, true};
+    flow.rho0 = rho0_, flow.dx = D0_, flow.L = d_;
+    return flow;
+  }
+  // The drive: a uniform body force g = G / rho0 along x on the fluid.
+  void start(FlowScheme<2>& s) override { s.set_body_acceleration(Vec<2>(G_ / rho0_, 0.0)); }
+  double t_end() const override { return t_end_; }
+  // Only a speed that is not finite: the density test below is this case's divergence test.
+  double speed_bound() const override { return std::numeric_limits<double>::max(); }
 
-    auto superficial = [&]() {
-      double q = 0.0;
+  // Every 100 steps and at the samples: diverged when a density deviates by more than 10 %. The
+  // superficial velocity at t = (0.8, 0.9, 1.0) t_end.
+  bool after_step(FlowScheme<2>&, const LoopState& at, const StepStats&) override {
+    const Particles<2>& p = *p_;
+    if (at.steps % 100 == 0 || (next_ < 3 && at.t >= sample_at[next_] * t_end_ * (1.0 - 1e-12))) {
       for (std::size_t i = 0; i < p.size(); ++i)
         if (p.kind[i] == Kind::Fluid)
-          q += p.m[i] / p.rho[i] * p.v[i][0];
-      return q / (S * S);
-    };
-
-    RunResult res;
-    double t = 0.0, max_drho = 0.0;
-    long steps = 0;
-    int next = 0;
-    const double sample_at[3] = {0.8, 0.9, 1.0};
-    double U_k[3] = {0.0, 0.0, 0.0};
-    while (next < 3) {
-      if (contact_step(scheme, t, t_end, ctx, res) == 0.0)
-        return res;
-      ++steps;
-      if (steps % 100 == 0 || t >= sample_at[next] * t_end * (1.0 - 1e-12)) {
-        for (std::size_t i = 0; i < p.size(); ++i)
-          if (p.kind[i] == Kind::Fluid)
-            max_drho = std::max(max_drho, std::abs(p.rho[i] / rho0 - 1.0));
-        if (!std::isfinite(max_drho) || max_drho > 0.1) {
-          res.status = RunStatus::Diverged;
-          res.message = "density deviation " + std::to_string(max_drho) +
-                        " at t = " + std::to_string(t) + " after " + std::to_string(steps) +
-                        " steps";
-          return res;
-        }
-      }
-      while (next < 3 && t >= sample_at[next] * t_end * (1.0 - 1e-12))
-        U_k[next++] = superficial();
-      ctx.report(t / t_end);
+          max_drho_ = std::max(max_drho_, std::abs(p.rho[i] / rho0_ - 1.0));
+      if (!std::isfinite(max_drho_) || max_drho_ > 0.1)
+        throw std::runtime_error("density deviation " + std::to_string(max_drho_) + " after " +
+                                 std::to_string(at.steps) + " steps");
     }
-    const double wall_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    const double U_s = U_k[2];
-    const double Kd = G * S * S / (eta * U_s);
-    const double Re = rho0 * U_s * d / eta;
+    while (next_ < 3 && at.t >= sample_at[next_] * t_end_ * (1.0 - 1e-12))
+      U_k_[next_++] = superficial();
+    return false;
+  }
+
+  void finish(FlowScheme<2>& s, const LoopState& at, RunResult& res) override {
+    const double U_s = U_k_[2];
+    const double Kd = G_ * S_ * S_ / (eta_ * U_s);
+    const double Re = rho0_ * U_s * d_ / eta_;
     const double CD = 2.0 * Kd / Re;
-    const double CD39 = 16.0 * std::numbers::pi * cylinder_array_a0(d / S) / Re;
+    const double CD39 = 16.0 * std::numbers::pi * cylinder_array_a0(d_ / S_) / Re;
     res.add("K", Kd);
     res.add("U_s", U_s);
     res.add("Re", Re);
     res.add("CD", CD);
     res.add("CD_eq39", CD39);
     res.add("CD_ratio", CD / CD39);
-    res.add("U_drift", std::abs(U_k[2] - U_k[0]) / std::abs(U_s));
-    res.add("drag_balance", -scheme.solid_force()[0] / (opt.g[0] * M_fluid));
-    res.add("solid_fraction", c);
-    res.add("d_over_S_used", d / S);
-    res.add("eta_phys", eta);
-    res.add("eta_num_ref", scheme.eta_num(0, D0));
-    res.add("D0", D0);
-    res.add("t_end", t_end);
-    res.add("max_density_dev", max_drho);
-    res.add("steps", static_cast<double>(steps));
-    res.add("wall_s", wall_s);
-    res.add("wall_per_step_s", wall_s / steps);
-    res.add("n_fluid", static_cast<double>(n_fluid));
-    res.add("n_solid", static_cast<double>(scheme.num_solids()));
-    return res;
-  });
+    res.add("U_drift", std::abs(U_k_[2] - U_k_[0]) / std::abs(U_s));
+    res.add("drag_balance", s.force_on_walls()[0] / (G_ / rho0_ * M_fluid_));
+    res.add("solid_fraction", c_);
+    res.add("d_over_S_used", d_ / S_);
+    res.add("eta_phys", eta_);
+    res.add("eta_num_ref", contact::eta_num_of(contact::options_from(prm_), D0_, rho0_ * c0_));
+    res.add("D0", D0_);
+    res.add("t_end", t_end_);
+    res.add("max_density_dev", max_drho_);
+    res.add("wall_s", at.wall_s);
+    res.add("wall_per_step_s", at.wall_s / at.steps);
+    res.add("n_fluid", static_cast<double>(n_fluid_));
+    res.add("n_solid", static_cast<double>(n_solid_));
+  }
+
+  std::vector<std::string> state_names() const override { return {"cylinder_array/samples"}; }
+  void save_state(StateArrays& out) const override {
+    out["cylinder_array/samples"] = {max_drho_, static_cast<double>(next_), U_k_[0], U_k_[1],
+                                     U_k_[2]};
+  }
+  void load_state(const StateArrays& in) override {
+    const auto& a = in.at("cylinder_array/samples");
+    io::expect_state_size(a, 5, "cylinder_array: checkpoint array cylinder_array/samples");
+    max_drho_ = a[0], next_ = static_cast<int>(a[1]);
+    U_k_[0] = a[2], U_k_[1] = a[3], U_k_[2] = a[4];
+  }
+
+private:
+  static constexpr double sample_at[3] = {0.8, 0.9, 1.0};
+  Params prm_;
+  double rho0_ = 0.0, c0_ = 0.0, eta_ = 0.0, d_ = 0.0, D0_ = 0.0, S_ = 0.0, c_ = 0.0, G_ = 0.0;
+  double t_end_ = 0.0, M_fluid_ = 0.0, max_drho_ = 0.0;
+  double U_k_[3] = {0.0, 0.0, 0.0};
+  int N_ = 0, next_ = 0;
+  std::size_t n_fluid_ = 0, n_solid_ = 0;
+  Particles<2>* p_ = nullptr;
+
+  // Superficial velocity (1/S^2) sum_fluid V_i U_x,i.
+  double superficial() const {
+    double q = 0.0;
+    for (std::size_t i = 0; i < p_->size(); ++i)
+      if (p_->kind[i] == Kind::Fluid)
+        q += p_->m[i] / p_->rho[i] * p_->v[i][0];
+    return q / (S_ * S_);
+  }
+};
+
+RunResult run_cylinder_array(const Params& prm, const RunContext& ctx) {
+  CylinderArrayCase c(prm);
+  return run_flow_case<2>(c, prm, ctx, "contact");
 }
 
 } // namespace

@@ -13,12 +13,15 @@
 // the horizontal centreline z = 0.5. Metrics (names follow the 2D cavity's, with z the vertical):
 //   ux_at_z_<z>, uz_at_x_<x>  at the 17 points of the reference table (Ghia's abscissae)
 //   ux_min, ux_min_z, uz_min, uz_min_x, uz_max, uz_max_x   on fine lines of 201 points
-//   at Re = 1000, against Albensoeder & Kuhlmann (2005) (the only tabulated 3D reference found;
+//   at Re = 1000, against Albensoeder & Kuhlmann (2005) (the only tabulated 3D w reference found;
 //   studies/reference/albensoeder2005_re1000_*.csv, with its provenance and cross-check):
 //   ux_rms_err, ux_max_err, uz_rms_err, uz_max_err over the 15 interior points, and
 //   ux_min_err = |ux_min - u_min,ref|, uz_min_err, uz_max_err_ext (extrema of their Table 2).
-//   No table of Ku et al. (1987) at Re = 100 was found in public code or data (they published
-//   plots), so at other Re the profiles are recorded without errors.
+//   At Re = 100 (the seed's case; Ku et al. 1987 published plots only), u against Wong & Baker
+//   (2002), cross-checked with Jiang et al. (1994) (studies/reference/README_wongbaker2002.md):
+//   ux_rms_err, ux_max_err over its 46 interior points, ux_min_err against its smallest value;
+//   no w table at Re = 100 was found, so uz has no error there. At other Re the profiles are
+//   recorded without errors.
 //   Also ke, t_stop, steady, density_dev_max, n_fluid, the scheme's metrics and the loop's costs.
 // HDF5 (<output_dir>/lid_driven_cavity_3d.h5): history/{t,ke,density_dev,...},
 // profile_x0.5/{z,ux}, profile_z0.5/{x,uz}.
@@ -56,6 +59,26 @@ constexpr std::array<double, n_ref> ref_w{
     0.1758025,  0.1698661,  0.0367355,  -0.1522299, -0.3111715, -0.4342302,
     -0.3351117, -0.2903172, -0.2409470, -0.1886420, 0.0};
 constexpr double ref_u_min = -0.2803833, ref_w_min = -0.4350186, ref_w_max = 0.2466511;
+
+// Wong & Baker, Int. J. Numer. Meth. Fluids 38 (2002) 99-123 (finite elements, 48^3), Re = 100:
+// u along the vertical centreline of the mid-plane, 4 decimals, as transcribed in
+// github.com/ShotaDeguchi/02b_lid_driven_cavity_flow_3D reference.py (commit 11cc007);
+// cross-checked against Jiang, Lin & Povinelli 1994 (RMS difference 0.004-0.005):
+// studies/reference/ README_wongbaker2002.md. No Re = 100 table of w along the horizontal
+// centreline was found.
+constexpr int n_wb = 48;
+constexpr std::array<double, n_wb> wb_z{
+    0.0000, 0.0009, 0.0035, 0.0078, 0.0139, 0.0217, 0.0312, 0.0425, 0.0556, 0.0703, 0.0868, 0.1050,
+    0.1250, 0.1467, 0.1701, 0.1953, 0.2222, 0.2509, 0.2812, 0.3134, 0.3472, 0.3828, 0.4201, 0.4592,
+    0.5000, 0.5408, 0.5799, 0.6172, 0.6528, 0.6866, 0.7188, 0.7491, 0.7778, 0.8047, 0.8299, 0.8533,
+    0.8750, 0.9132, 0.9297, 0.9444, 0.9575, 0.9688, 0.9783, 0.9861, 0.9922, 0.9965, 0.9991, 1.0000};
+constexpr std::array<double, n_wb> wb_u{
+    0.0000,  -0.0007, -0.0029, -0.0064, -0.0111, -0.0171, -0.0241, -0.0320, -0.0407, -0.0501,
+    -0.0620, -0.0708, -0.0820, -0.0938, -0.1061, -0.1191, -0.1327, -0.1469, -0.1614, -0.1759,
+    -0.1897, -0.2018, -0.2109, -0.2154, -0.2135, -0.2040, -0.1874, -0.1648, -0.1370, -0.1051,
+    -0.0695, -0.0301, 0.0137,  0.0633,  0.1200,  0.1848,  0.2583,  0.4276,  0.5184,  0.6087,
+    0.6947,  0.7732,  0.8417,  0.8986,  0.9430,  0.9747,  0.9937,  1.0000};
+constexpr double wb_u_min = -0.2154; // the table's smallest value (z = 0.4592)
 
 class Cavity3D final : public FlowCase<3> {
 public:
@@ -112,6 +135,9 @@ public:
       pts.emplace_back(0.5, 0.5, static_cast<double>(k) / (n_fine - 1));
     for (int k = 0; k < n_fine; ++k)
       pts.emplace_back(static_cast<double>(k) / (n_fine - 1), 0.5, 0.5);
+    const std::size_t wb0 = pts.size();
+    for (int k = 0; k < n_wb; ++k)
+      pts.emplace_back(0.5, 0.5, wb_z[k]);
     const auto u = with_kernel<3>(s.kernel_name(), s.h(), [&](const auto& W) {
       return shepard_sample<3>(*p_, W, pts, [](std::size_t) { return true; });
     });
@@ -154,6 +180,16 @@ public:
       res.add("ux_min_err", std::abs(u_min - ref_u_min));
       res.add("uz_min_err", std::abs(w_min - ref_w_min));
       res.add("uz_max_err_ext", std::abs(w_max - ref_w_max));
+    }
+    if (std::abs(Re_ - 100.0) < 1e-9) { // u only: no published w table at Re = 100
+      double e2 = 0.0, emax = 0.0;
+      for (int k = 1; k + 1 < n_wb; ++k) { // the end points are the boundary values
+        const double e = u[wb0 + k].x() - wb_u[k];
+        e2 += e * e, emax = std::max(emax, std::abs(e));
+      }
+      res.add("ux_rms_err", std::sqrt(e2 / (n_wb - 2)));
+      res.add("ux_max_err", emax);
+      res.add("ux_min_err", std::abs(u_min - wb_u_min));
     }
     res.add("ke", kinetic_energy(*p_));
     res.add("t_stop", at.t);

@@ -27,23 +27,18 @@
 // composite-medium solution; profile_err uses the same solution with the physical viscosities.
 // Parameter impedance: a checked copy of rho0 c0 (the x axis of the eta_num-against-Z figure);
 // with material = custom it may set c0 instead.
-// Cost: steps, wall_s, wall_per_step_s, n_fluid, n_ghost, neighbors_mean.
-// Checkpoints (io/checkpoint.hpp, with a checkpoint directory): every particle field (ghosts
-// included), the scheme's search count and cell radius, the fits made so far and this loop's
-// sums. A resumed job continues bit for bit (tested).
-#include "cases/case.hpp"
-#include "cases/contact_step.hpp"
+// Cost (besides the time loop's): wall_s, wall_per_step_s, n_fluid, n_ghost, neighbors_mean.
+// Runs on the shared time loop (cases/time_loop.hpp) with scheme contact; the slip walls are
+// Flow::slip_walls. Divergence: a density deviation above 50 % (or a speed above 10 (c0 + U0)).
+// Checkpoints: every particle field (ghosts included), the scheme's search count and cell radius,
+// the fits made so far and this case's sums. A resumed job continues bit for bit (tested).
 #include "cases/materials.hpp"
-#include "core/kernels/kernel.hpp"
+#include "cases/time_loop.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/erf_fit.hpp"
-#include "io/particle_checkpoint.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
-#include <chrono>
 #include <cmath>
-#include <omp.h>
-#include <sstream>
 #include <stdexcept>
 
 namespace sph {
@@ -83,205 +78,200 @@ Side resolve_side(const Params& prm, const std::string& key) {
 }
 
 template <int D>
-RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
-  const auto wall0 = std::chrono::steady_clock::now();
-  omp_set_num_threads(std::max(1, ctx.threads));
-  const std::string mat = get_string(prm, "material");
-  const std::string ml =
-      get_string(prm, "material_left").empty() ? mat : get_string(prm, "material_left");
-  const std::string mr =
-      get_string(prm, "material_right").empty() ? mat : get_string(prm, "material_right");
-  const Side L = resolve_side(prm, ml), R = resolve_side(prm, mr);
-  const bool two = ml != mr;
-  const double U0 = get_real(prm, "U0"), D0 = get_real(prm, "D0");
+class ShearLayerCase final : public FlowCase<D> {
+public:
+  explicit ShearLayerCase(const Params& prm) : prm_(prm) {
+    const std::string mat = get_string(prm, "material");
+    const std::string ml =
+        get_string(prm, "material_left").empty() ? mat : get_string(prm, "material_left");
+    const std::string mr =
+        get_string(prm, "material_right").empty() ? mat : get_string(prm, "material_right");
+    L_ = resolve_side(prm, ml), R_ = resolve_side(prm, mr);
+    two_ = ml != mr;
+    U0_ = get_real(prm, "U0"), D0_ = get_real(prm, "D0");
+    t_end_ = get_real(prm, "t_end");
+    if (t_end_ <= 0.0)
+      t_end_ = 1000.0 * D0_ / std::max(L_.c0, R_.c0);
+  }
 
-  const contact::Options opt = contact::options_from(prm);
-  double t_end = get_real(prm, "t_end");
-  if (t_end <= 0.0)
-    t_end = 1000.0 * D0 / std::max(L.c0, R.c0);
-
-  return with_kernel<D>(get_string(prm, "kernel"), 1.0, [&](const auto& kernel_tag) {
-    using K = std::decay_t<decltype(kernel_tag)>;
+  Flow<D> build(Particles<D>& p) override {
+    p_ = &p;
     // Periodic axes must hold 3 search radii; allow 5% growth of the particle size.
-    const double Rs = contact::search_radius<K>(opt, 1.05 * D0);
-    const int nmin = static_cast<int>(std::ceil(3.0 * Rs / D0));
-    const int nx = static_cast<int>(get_int(prm, "nx"));
-    const int ny = std::max<int>(static_cast<int>(get_int(prm, "ny")), nmin);
-    const int nz = D == 3 ? std::max<int>(static_cast<int>(get_int(prm, "nz")), nmin) : 1;
-    const double half = 0.5 * nx * D0;
+    const double Rs = contact::search_radius(prm_, 1.05 * D0_);
+    const int nmin = static_cast<int>(std::ceil(3.0 * Rs / D0_));
+    const int nx = static_cast<int>(get_int(prm_, "nx"));
+    ny_ = std::max<int>(static_cast<int>(get_int(prm_, "ny")), nmin);
+    nz_ = D == 3 ? std::max<int>(static_cast<int>(get_int(prm_, "nz")), nmin) : 1;
+    half_ = 0.5 * nx * D0_;
 
-    Particles<D> p;
     const contact::Fields f = contact::Fields::add_to(p);
     std::array<int, D> lo{}, hi{};
-    hi[0] = nx, hi[1] = ny;
+    hi[0] = nx, hi[1] = ny_;
     if constexpr (D == 3)
-      hi[2] = nz;
-    const double vol = std::pow(D0, D);
-    for_each_lattice_point<D>(lo, hi, D0, [&](Vec<D> x, const std::array<int, D>&) {
-      x[0] -= half;
-      x[1] -= 0.5 * ny * D0;
+      hi[2] = nz_;
+    const double vol = std::pow(D0_, D);
+    for_each_lattice_point<D>(lo, hi, D0_, [&](Vec<D> x, const std::array<int, D>&) {
+      x[0] -= half_;
+      x[1] -= 0.5 * ny_ * D0_;
       if constexpr (D == 3)
-        x[2] -= 0.5 * nz * D0;
-      const Side& s = x[0] < 0.0 ? L : R;
+        x[2] -= 0.5 * nz_ * D0_;
+      const Side& s = x[0] < 0.0 ? L_ : R_;
       const std::size_t i = p.add(x, s.rho0 * vol, s.rho0);
-      p.v[i][1] = x[0] < 0.0 ? -U0 : U0;
+      p.v[i][1] = x[0] < 0.0 ? -U0_ : U0_;
       p.scalar(f.rho0)[i] = s.rho0;
       p.scalar(f.c0)[i] = s.c0;
       p.scalar(f.eta)[i] = s.eta;
     });
-    const std::size_t n_fluid = p.size();
+    n_fluid_ = p.size();
+    rho0_ = f.rho0;
 
-    Domain<D> box;
-    box.lo[0] = -half - 2.0 * Rs, box.hi[0] = half + 2.0 * Rs;
-    box.lo[1] = -0.5 * ny * D0, box.hi[1] = 0.5 * ny * D0, box.periodic[1] = true;
-    if constexpr (D == 3)
-      box.lo[2] = -0.5 * nz * D0, box.hi[2] = 0.5 * nz * D0, box.periodic[2] = true;
-    contact::Scheme<D, K> scheme(p, f, box, opt,
-                                 {contact::SlipWall{0, -half, +1}, contact::SlipWall{0, half, -1}});
-    scheme.init();
-
-    ShearLayer sl{U0, two ? 0.0 : half, 3};
-    const double nuL = L.eta / L.rho0, nuR = R.eta / R.rho0;
-    std::vector<double> xs, us, nu_k, nul_k, nur_k;
-    double fit_rms = 0.0;
-    auto sample = [&]() {
-      xs.clear(), us.clear();
-      for (std::size_t i = 0; i < p.size(); ++i)
-        if (p.kind[i] == Kind::Fluid)
-          xs.push_back(p.r[i][0]), us.push_back(p.v[i][1]);
-    };
-
-    RunResult res;
-    double t = 0.0, dt_sum = 0.0, max_drho = 0.0, wall_before = 0.0;
-    long steps = 0;
-    int next = 0;
-    const double fit_at[5] = {0.6, 0.7, 0.8, 0.9, 1.0};
-    auto wall_so_far = [&] {
-      return wall_before +
-             std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    };
-
-    std::vector<double> a, carried; // the loop's scalars, the scheme's state
-    io::LoopCheckpoint<D> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
-                             p,
-                             {{"sl/nu", &nu_k},
-                              {"sl/nu_left", &nul_k},
-                              {"sl/nu_right", &nur_k},
-                              {"sl/loop", &a},
-                              {"sl/scheme", &carried}});
-    std::string resumed;
-    if (auto at = ck.restore()) {
-      scheme.restore_carried_state(carried);
-      io::expect_state_size(a, 5, "shear_layer: checkpoint loop state");
-      dt_sum = a[0], max_drho = a[1], fit_rms = a[2], next = static_cast<int>(a[3]);
-      wall_before = a[4];
-      steps = static_cast<long>(at->first), t = at->second;
-      std::ostringstream os; // t is of order 1e-10 s
-      os << "resumed at t = " << t << " s, step " << steps << " (attempt " << ctx.attempt << ")";
-      resumed = os.str();
+    Flow<D> flow;
+    flow.box.lo[0] = -half_ - 2.0 * Rs, flow.box.hi[0] = half_ + 2.0 * Rs;
+    flow.box.lo[1] = -0.5 * ny_ * D0_, flow.box.hi[1] = 0.5 * ny_ * D0_;
+    flow.box.periodic[1] = true;
+    if constexpr (D == 3) {
+      flow.box.lo[2] = -0.5 * nz_ * D0_, flow.box.hi[2] = 0.5 * nz_ * D0_;
+      flow.box.periodic[2] = true;
     }
-    auto save_checkpoint = [&] {
-      a = {dt_sum, max_drho, fit_rms, static_cast<double>(next), wall_so_far()};
-      carried = scheme.carried_state();
-      ck.save(steps, t);
-    };
+    flow.slip_walls = {SlipWall{0, -half_, +1}, SlipWall{0, half_, -1}};
+    flow.rho0 = L_.rho0, flow.U = U0_, flow.L = nx * D0_, flow.dx = D0_;
+    return flow;
+  }
+  double t_end() const override { return t_end_; }
+  // Not finite or ten times the fastest sound speed: broken (the density test below comes first).
+  double speed_bound() const override { return 10.0 * (std::max(L_.c0, R_.c0) + U0_); }
 
-    while (next < 5) {
-      if (ctx.cancelled())
-        save_checkpoint(); // contact_step below records the cancellation
-      const double dt = contact_step(scheme, t, t_end, ctx, res);
-      if (dt == 0.0)
-        return res;
-      dt_sum += dt, ++steps;
-      for (std::size_t i = 0; i < p.size(); ++i)
-        if (p.kind[i] == Kind::Fluid)
-          max_drho = std::max(max_drho, std::abs(p.rho[i] / p.scalar(f.rho0)[i] - 1.0));
-      if (!std::isfinite(max_drho) || max_drho > 0.5) {
-        res.status = RunStatus::Diverged;
-        res.message = "density deviation " + std::to_string(max_drho) +
-                      " at t = " + std::to_string(t) + " after " + std::to_string(steps) + " steps";
-        return res;
+  // Diverged when a density deviates from its material's rho0 by more than 50 %; the erf fits at
+  // the five times t_k.
+  bool after_step(FlowScheme<D>&, const LoopState& at, const StepStats& st) override {
+    const Particles<D>& p = *p_;
+    dt_sum_ += st.dt;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == Kind::Fluid)
+        max_drho_ = std::max(max_drho_, std::abs(p.rho[i] / p.scalar(rho0_)[i] - 1.0));
+    if (!std::isfinite(max_drho_) || max_drho_ > 0.5)
+      throw std::runtime_error("density deviation " + std::to_string(max_drho_) + " after " +
+                               std::to_string(at.steps) + " steps");
+    while (next_ < 5 && at.t >= fit_at[next_] * t_end_ * (1.0 - 1e-12)) {
+      sample();
+      if (two_) {
+        const ErfFit ft = fit_shear_layer2(sl(), xs_, us_, at.t, L_.rho0, R_.rho0);
+        nul_k_.push_back(ft.nu_left), nur_k_.push_back(ft.nu_right);
+        fit_rms_ = ft.rms;
+      } else {
+        const ErfFit ft = fit_shear_layer(sl(), xs_, us_, at.t);
+        nu_k_.push_back(ft.nu);
+        fit_rms_ = ft.rms;
       }
-      while (next < 5 && t >= fit_at[next] * t_end * (1.0 - 1e-12)) {
-        sample();
-        if (two) {
-          const ErfFit ft = fit_shear_layer2(sl, xs, us, t, L.rho0, R.rho0);
-          nul_k.push_back(ft.nu_left), nur_k.push_back(ft.nu_right);
-          fit_rms = ft.rms;
-        } else {
-          const ErfFit ft = fit_shear_layer(sl, xs, us, t);
-          nu_k.push_back(ft.nu);
-          fit_rms = ft.rms;
-        }
-        ++next;
-      }
-      if (ck.due(steps))
-        save_checkpoint();
-      ctx.report(t / t_end);
+      ++next_;
     }
-    const double wall_s = wall_so_far();
+    return false;
+  }
 
+  void finish(FlowScheme<D>& s, const LoopState& at, RunResult& res) override {
+    const Particles<D>& p = *p_;
     auto spread = [](const std::vector<double>& v) {
-      double lo = v[0], hi = v[0], s = 0.0;
+      double lo = v[0], hi = v[0], sum = 0.0;
       for (double x : v)
-        lo = std::min(lo, x), hi = std::max(hi, x), s += x;
-      return (hi - lo) / (s / v.size());
+        lo = std::min(lo, x), hi = std::max(hi, x), sum += x;
+      return (hi - lo) / (sum / v.size());
     };
     auto mean = [](const std::vector<double>& v) {
-      double s = 0.0;
+      double sum = 0.0;
       for (double x : v)
-        s += x;
-      return s / v.size();
+        sum += x;
+      return sum / v.size();
     };
     // Profile error against the physical-viscosity solution at t_end.
     sample();
+    const double nuL = L_.eta / L_.rho0, nuR = R_.eta / R_.rho0;
     double err2 = 0.0;
-    for (std::size_t k = 0; k < xs.size(); ++k) {
-      const double ue = two ? shear_layer_u2(sl, xs[k], t, nuL, L.rho0, nuR, R.rho0)
-                            : shear_layer_u(sl, xs[k], t, nuL);
-      err2 += (us[k] - ue) * (us[k] - ue);
+    for (std::size_t k = 0; k < xs_.size(); ++k) {
+      const double ue = two_ ? shear_layer_u2(sl(), xs_[k], at.t, nuL, L_.rho0, nuR, R_.rho0)
+                             : shear_layer_u(sl(), xs_[k], at.t, nuL);
+      err2 += (us_[k] - ue) * (us_[k] - ue);
     }
-    if (two) {
-      res.add("eta_fit_left", L.rho0 * mean(nul_k));
-      res.add("eta_fit_right", R.rho0 * mean(nur_k));
-      res.add("eta_fit_spread", std::max(spread(nul_k), spread(nur_k)));
+    if (two_) {
+      res.add("eta_fit_left", L_.rho0 * mean(nul_k_));
+      res.add("eta_fit_right", R_.rho0 * mean(nur_k_));
+      res.add("eta_fit_spread", std::max(spread(nul_k_), spread(nur_k_)));
     } else {
-      res.add("eta_fit", L.rho0 * mean(nu_k));
-      res.add("eta_fit_spread", spread(nu_k));
+      res.add("eta_fit", L_.rho0 * mean(nu_k_));
+      res.add("eta_fit_spread", spread(nu_k_));
     }
-    res.add("profile_err", std::sqrt(err2 / xs.size()) / U0);
-    res.add("fit_rms", fit_rms);
-    if (!two) {
-      res.add("eta_phys", L.eta);
-      res.add("Z", L.rho0 * L.c0);
-      res.add("eta_num_ref", opt.eta_num >= 0.0
-                                 ? opt.eta_num
-                                 : contact::eta_num_eq37(D0, L.rho0 * L.c0, opt.alpha));
+    res.add("profile_err", std::sqrt(err2 / xs_.size()) / U0_);
+    res.add("fit_rms", fit_rms_);
+    if (!two_) {
+      res.add("eta_phys", L_.eta);
+      res.add("Z", L_.rho0 * L_.c0);
+      res.add("eta_num_ref",
+              contact::eta_num_of(contact::options_from(prm_), D0_, L_.rho0 * L_.c0));
     } else {
-      res.add("eta_phys_left", L.eta);
-      res.add("eta_phys_right", R.eta);
+      res.add("eta_phys_left", L_.eta);
+      res.add("eta_phys_right", R_.eta);
     }
-    res.add("t_end", t_end);
-    res.add("max_density_dev", max_drho);
-    res.add("steps", static_cast<double>(steps));
-    res.add("dt_mean", dt_sum / steps);
-    res.add("wall_s", wall_s);
-    res.add("wall_per_step_s", wall_s / steps);
-    res.add("n_fluid", static_cast<double>(n_fluid));
-    res.add("n_ghost", static_cast<double>(scheme.num_ghosts()));
-    res.add("ny_used", ny);
-    res.add("nz_used", nz);
+    res.add("t_end", t_end_);
+    res.add("max_density_dev", max_drho_);
+    res.add("dt_mean", dt_sum_ / at.steps);
+    res.add("wall_s", at.wall_s);
+    res.add("wall_per_step_s", at.wall_s / at.steps);
+    res.add("n_fluid", static_cast<double>(n_fluid_));
+    res.add("n_ghost", static_cast<double>(p.size() - n_fluid_)); // the slip walls' mirrors
+    res.add("ny_used", ny_);
+    res.add("nz_used", nz_);
     double pairs = 0.0;
-    const auto& nl = scheme.neighbors();
+    const auto& nl = s.neighbors();
     for (std::size_t i = 0; i < p.size(); ++i)
       if (p.kind[i] == Kind::Fluid)
         pairs += nl.offset[i + 1] - nl.offset[i];
-    res.add("neighbors_mean", pairs / n_fluid);
-    if (!resumed.empty())
-      res.message = resumed;
-    ck.discard(); // the results are final
-    return res;
-  });
+    res.add("neighbors_mean", pairs / n_fluid_);
+  }
+
+  // The fits made so far and this case's sums.
+  std::vector<std::string> state_names() const override {
+    return {"shear_layer/nu", "shear_layer/nu_left", "shear_layer/nu_right", "shear_layer/sums"};
+  }
+  void save_state(StateArrays& out) const override {
+    out["shear_layer/nu"] = nu_k_;
+    out["shear_layer/nu_left"] = nul_k_;
+    out["shear_layer/nu_right"] = nur_k_;
+    out["shear_layer/sums"] = {dt_sum_, max_drho_, fit_rms_, static_cast<double>(next_)};
+  }
+  void load_state(const StateArrays& in) override {
+    nu_k_ = in.at("shear_layer/nu");
+    nul_k_ = in.at("shear_layer/nu_left");
+    nur_k_ = in.at("shear_layer/nu_right");
+    const auto& a = in.at("shear_layer/sums");
+    io::expect_state_size(a, 4, "shear_layer: checkpoint array shear_layer/sums");
+    dt_sum_ = a[0], max_drho_ = a[1], fit_rms_ = a[2], next_ = static_cast<int>(a[3]);
+  }
+
+private:
+  static constexpr double fit_at[5] = {0.6, 0.7, 0.8, 0.9, 1.0};
+  Params prm_;
+  Side L_{}, R_{};
+  bool two_ = false;
+  double U0_ = 0.0, D0_ = 0.0, t_end_ = 0.0, half_ = 0.0;
+  int ny_ = 0, nz_ = 0, rho0_ = -1;
+  std::size_t n_fluid_ = 0;
+  Particles<D>* p_ = nullptr;
+  std::vector<double> xs_, us_, nu_k_, nul_k_, nur_k_;
+  double dt_sum_ = 0.0, max_drho_ = 0.0, fit_rms_ = 0.0;
+  int next_ = 0;
+
+  ShearLayer sl() const { return {U0_, two_ ? 0.0 : half_, 3}; }
+  void sample() {
+    xs_.clear(), us_.clear();
+    for (std::size_t i = 0; i < p_->size(); ++i)
+      if (p_->kind[i] == Kind::Fluid)
+        xs_.push_back(p_->r[i][0]), us_.push_back(p_->v[i][1]);
+  }
+};
+
+template <int D>
+RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
+  ShearLayerCase<D> c(prm);
+  return run_flow_case<D>(c, prm, ctx, "contact");
 }
 
 } // namespace

@@ -16,10 +16,12 @@
 // resumed job rebuilds the initial configuration (so reference densities are the same), restores
 // the particles and the named state, and continues bit for bit.
 //
-// Cost metrics of every run: steps, wall_time_s, time_per_step_s (wall per step),
-// cpu_time_per_step_s (process CPU time of the loop per step: the honest cost on a shared
-// machine), time_per_particle_step_s (wall per particle and elementary step of the scheme:
-// acoustic sub-steps of wcsph_tvf, steps of isph), n_particles (at the end).
+// Cost metrics of every run that finished or diverged: steps, wall_time_s, time_per_step_s (wall
+// per step), cpu_time_per_step_s (process CPU time of the loop per step: the honest cost on a
+// shared machine), time_per_particle_step_s (wall per particle and elementary step of the scheme:
+// acoustic sub-steps of wcsph_tvf, steps of isph), n_particles (the largest particle count of the
+// run, every kind: constant for closed boxes; with inflow, outflow and ghosts, their maximum).
+// A diverged run also records t_stop, the case's diverged() metrics and the scheme's.
 #pragma once
 
 #include "cases/case.hpp"
@@ -43,6 +45,8 @@ struct LoopState {
   double t = 0.0;
   long steps = 0;
   double t_end = 0.0;
+  double wall_s = 0.0; // wall and process CPU time of the run, earlier attempts included (set for
+  double cpu_s = 0.0;  // finish and diverged)
 };
 
 template <int D>
@@ -66,6 +70,9 @@ public:
   virtual bool after_step(FlowScheme<D>&, const LoopState&, const StepStats&) { return false; }
   // Final metrics and outputs (the loop adds the scheme's metrics and the costs after these).
   virtual void finish(FlowScheme<D>&, const LoopState&, RunResult&) = 0;
+  // The metrics and outputs of a run that diverged (what is meaningful of a blown-up state: none by
+  // default); the loop adds t_stop, the scheme's metrics and the costs.
+  virtual void diverged(FlowScheme<D>&, const LoopState&, RunResult&) {}
   // A note for the job's message ("steady at t = ..."), empty for none.
   virtual std::string summary(const LoopState&) const { return {}; }
 
@@ -94,13 +101,15 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
   RunResult res;
   LoopState at;
   at.t_end = c.t_end();
-  double cpu_before = 0.0, wall_before = 0.0; // spent by earlier attempts
+  double cpu_before = 0.0, wall_before = 0.0;   // spent by earlier attempts
+  double n_max = static_cast<double>(p.size()); // the largest particle count (all kinds)
   std::string resumed;
 
   io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
   {
     std::vector<std::string> names = io::particle_array_names(p);
     names.push_back("loop/costs");
+    names.push_back("loop/n_particles_max");
     for (auto& n : c.state_names())
       names.push_back(n);
     for (auto& n : s->state_names())
@@ -110,6 +119,9 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       const auto& costs = st->arrays.at("loop/costs");
       io::expect_state_size(costs, 2, "checkpoint array loop/costs");
       cpu_before = costs[0], wall_before = costs[1];
+      const auto& nm = st->arrays.at("loop/n_particles_max");
+      io::expect_state_size(nm, 1, "checkpoint array loop/n_particles_max");
+      n_max = nm[0];
       c.load_state(st->arrays);
       s->load_state(st->arrays);
       s->resume();
@@ -130,14 +142,34 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     io::CheckpointState st{at.steps, at.t, {}};
     io::add_particle_arrays(p, st.arrays);
     st.arrays["loop/costs"] = {cpu_so_far(), wall_so_far()};
+    st.arrays["loop/n_particles_max"] = {n_max};
     c.save_state(st.arrays);
     s->save_state(st.arrays);
     ck.save(st);
   };
+  // The scheme's metrics and the loop's costs, for a run that finished or diverged.
+  auto add_costs = [&] {
+    s->add_metrics(res, at.wall_s);
+    const double N = n_max, steps = static_cast<double>(at.steps);
+    res.add("steps", steps);
+    res.add("wall_time_s", at.wall_s);
+    if (at.steps > 0) {
+      res.add("time_per_step_s", at.wall_s / steps);
+      res.add("cpu_time_per_step_s", at.cpu_s / steps);
+    }
+    if (s->work_steps() > 0)
+      res.add("time_per_particle_step_s", at.wall_s / (N * static_cast<double>(s->work_steps())));
+    res.add("n_particles", N);
+  };
   auto diverged = [&](const std::string& why) {
+    at.wall_s = wall_so_far(), at.cpu_s = cpu_so_far();
     res.status = RunStatus::Diverged;
-    res.message = why + " at t = " + std::to_string(at.t);
     res.add("t_stop", at.t);
+    c.diverged(*s, at, res);
+    add_costs();
+    res.message = why + " at t = " + std::to_string(at.t);
+    if (!resumed.empty())
+      res.message += "; " + resumed;
     return res;
   };
 
@@ -153,6 +185,7 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       return diverged(e.what());
     }
     ++at.steps;
+    n_max = std::max(n_max, static_cast<double>(p.size()));
     double vmax = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
       if (p.kind[i] == Kind::Fluid) {
@@ -173,17 +206,9 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       save();
     ctx.report(at.t / at.t_end);
   }
-  const double cpu = cpu_so_far(), wall = wall_so_far();
-
+  at.wall_s = wall_so_far(), at.cpu_s = cpu_so_far();
   c.finish(*s, at, res);
-  s->add_metrics(res, wall);
-  const double N = static_cast<double>(p.size()), steps = static_cast<double>(at.steps);
-  res.add("steps", steps);
-  res.add("wall_time_s", wall);
-  res.add("time_per_step_s", wall / steps);
-  res.add("cpu_time_per_step_s", cpu / steps);
-  res.add("time_per_particle_step_s", wall / (N * static_cast<double>(s->work_steps())));
-  res.add("n_particles", N);
+  add_costs();
   std::string m = c.summary(at);
   if (!resumed.empty())
     m = m.empty() ? resumed : m + "; " + resumed;

@@ -23,4 +23,12 @@ struct Domain {
   }
 };
 
+// A plane wall with a slip (free-slip, impermeable) condition: x_axis = position, the fluid on the
+// side `side` (+1: above, -1: below). A scheme imposes it its own way (contact: mirror particles).
+struct SlipWall {
+  int axis = 0;
+  double position = 0.0;
+  int side = +1;
+};
+
 } // namespace sph

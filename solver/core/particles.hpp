@@ -87,6 +87,23 @@ public:
   int vector_count() const { return static_cast<int>(vectors_.size()); }
   const std::string& scalar_name(int k) const { return scalars_[k].name; }
   const std::string& vector_name(int k) const { return vectors_[k].name; }
+  // The index of the scalar field `name`, -1 if there is none.
+  int find_scalar(const std::string& name) const {
+    for (std::size_t k = 0; k < scalars_.size(); ++k)
+      if (scalars_[k].name == name)
+        return static_cast<int>(k);
+    return -1;
+  }
+
+  // Removes the particles with keep[i] == 0, preserving the order of the others, from every field.
+  void keep_only(const std::vector<char>& keep) {
+    compact(r, keep), compact(v, keep), compact(m, keep), compact(rho, keep), compact(p, keep);
+    compact(V, keep), compact(kind, keep), compact(id, keep);
+    for (auto& f : scalars_)
+      compact(f.data, keep);
+    for (auto& f : vectors_)
+      compact(f.data, keep);
+  }
 
   // new[i] = old[perm[i]] for every field.
   void reorder(const std::vector<std::uint32_t>& perm) {
@@ -113,6 +130,14 @@ private:
   std::vector<Kind> kbuf_;
   std::vector<std::int64_t> ibuf_;
 
+  template <class T>
+  static void compact(std::vector<T>& a, const std::vector<char>& keep) {
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (keep[i])
+        a[w++] = a[i];
+    a.resize(w);
+  }
   template <class T>
   static void gather(std::vector<T>& a, const std::vector<std::uint32_t>& perm,
                      std::vector<T>& buf) {

@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -70,8 +71,11 @@ inline void expect_state_size(const std::vector<double>& a, std::size_t n,
 }
 
 // The message of a job that continued from its checkpoint.
+// t with 6 significant digits (%g), so that a time of order 1e-10 s reads as such.
 inline std::string resumed_message(double t, int attempt) {
-  return "resumed at t = " + std::to_string(t) + " (attempt " + std::to_string(attempt) + ")";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", t);
+  return "resumed at t = " + std::string(buf) + " (attempt " + std::to_string(attempt) + ")";
 }
 
 } // namespace sph::io

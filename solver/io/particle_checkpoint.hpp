@@ -1,15 +1,14 @@
 // Every field of a particle set (positions, velocities, mass, density, pressure, volume, kind, id
-// and the scheme's extra named fields) as named arrays of doubles for io::Checkpointer, and back;
-// and LoopCheckpoint, which saves and restores them with a time loop's own arrays. Doubles
-// round-trip exactly (kind and id are small integers), so a case that saves these with its own
-// loop state resumes bit for bit.
+// and the scheme's extra named fields) as named arrays of doubles for io::Checkpointer, and back
+// (the shared time loop, cases/time_loop.hpp, saves them with the named state of the case and the
+// scheme). Doubles round-trip exactly (kind and id are small integers), so a resumed run continues
+// bit for bit.
 #pragma once
 
 #include "core/particles.hpp"
 #include "io/checkpoint.hpp"
 
 #include <map>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -103,57 +102,5 @@ void restore_particle_arrays(Particles<D>& p, const Arrays& in) {
     detail::unflatten<D>(get("p/vector/" + p.vector_name(k)), p.vector(k),
                          "p/vector/" + p.vector_name(k));
 }
-
-// The checkpoint of a time loop: the particle set and the arrays the loop owns (its series; its
-// scalars and the scheme's carried state, packed into arrays by the caller before save() and
-// unpacked after restore()), bound once by pointer. Saved every N steps / S seconds (due()) and
-// on cancellation, loaded when the job starts again.
-//
-//   std::vector<double> loop;  // the loop's scalars
-//   io::LoopCheckpoint<2> ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps,
-//                            ctx.checkpoint_every_s, p, {{"x/series", &series}, {"x/loop",
-//                            &loop}});
-//   if (auto at = ck.restore()) { step = at->first; t = at->second; unpack(loop); }
-//   ... if (ck.due(step)) { loop = pack(); ck.save(step, t); }
-template <int D>
-class LoopCheckpoint : public Checkpointer {
-public:
-  using Bound = std::vector<std::pair<std::string, std::vector<double>*>>;
-
-  LoopCheckpoint(std::filesystem::path dir, std::int64_t every_steps, double every_seconds,
-                 Particles<D>& p, Bound arrays)
-      : Checkpointer(std::move(dir), every_steps, every_seconds), p_(p),
-        arrays_(std::move(arrays)) {}
-
-  // Restores the particles (with the saved count) and the bound arrays; the saved step and time,
-  // or nullopt when there is no checkpoint.
-  std::optional<std::pair<std::int64_t, double>> restore() {
-    std::vector<std::string> names = particle_array_names(p_);
-    for (const auto& [name, a] : arrays_)
-      names.push_back(name);
-    auto s = load(names);
-    if (!s)
-      return std::nullopt;
-    restore_particle_arrays(p_, s->arrays);
-    for (auto& [name, a] : arrays_)
-      *a = s->arrays.at(name);
-    return std::make_pair(s->step, s->time);
-  }
-
-  // Nothing when checkpoints are off (no directory): the particles are not even packed.
-  void save(std::int64_t step, double time) {
-    if (!enabled())
-      return;
-    CheckpointState s{step, time, {}};
-    add_particle_arrays(p_, s.arrays);
-    for (const auto& [name, a] : arrays_)
-      s.arrays[name] = *a;
-    Checkpointer::save(s);
-  }
-
-private:
-  Particles<D>& p_;
-  Bound arrays_;
-};
 
 } // namespace sph::io

@@ -23,6 +23,7 @@
 #include "core/registry.hpp"
 #include "core/run.hpp"
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -48,6 +49,13 @@ struct Flow {
   int v_wall = -1;   // vector field: prescribed velocity of the solid particles (-1: at rest)
   int h = -1;        // scalar field: per-particle smoothing length, variable resolution (-1: one
                      // h from the scheme's h_over_dx dx); a scheme without it rejects the flow
+  std::vector<SlipWall> slip_walls; // planes with a slip condition (a scheme that has no slip
+                                    // walls, SchemeInfo::slip_walls false, rejects the flow)
+  int normal = -1; // vector field: outward unit normal of the Body particles (-1: none; a scheme
+                   // with a body-pressure condition needs it)
+  // Open boundaries: sets the pressure of the Buffer particles on the current neighbour list,
+  // called by a scheme whenever it updates pressures (empty: buffers keep theirs).
+  std::function<void(Particles<D>&, const NeighborList<D>&)> buffer_pressure;
   double nu() const { return U * L / Re; }
 };
 
@@ -55,7 +63,7 @@ struct Flow {
 struct StepStats {
   double dt = 0.0;     // the step taken
   int substeps = 0;    // acoustic sub-steps (wcsph), inner iterations (alsph), ...
-  double v_max = 0.0;  // largest fluid speed at the start of the step
+  double v_max = 0.0;  // largest fluid speed at the start of the step (0: not measured)
   double tv_max = 0.0; // transport-velocity magnitude of the step (wcsph_tvf), else 0
 };
 
@@ -122,6 +130,7 @@ struct SchemeInfo {
   std::string name;
   std::string description; // one line, with the paper
   std::vector<ParamSpec> params;
+  bool slip_walls = false; // imposes Flow::slip_walls
   std::unique_ptr<FlowScheme<2>> (*make2)(const Params&, const Flow<2>&) = nullptr;
   std::unique_ptr<FlowScheme<3>> (*make3)(const Params&, const Flow<3>&) = nullptr;
 };
@@ -150,6 +159,8 @@ std::unique_ptr<FlowScheme<D>> make_scheme(const Params& prm, const Flow<D>& flo
   }();
   if (!make)
     throw std::invalid_argument("scheme '" + name + "' does not run in " + std::to_string(D) + "D");
+  if (!flow.slip_walls.empty() && !s->slip_walls)
+    throw std::invalid_argument("scheme '" + name + "' has no slip walls, which this case needs");
   return make(prm, flow);
 }
 

@@ -162,7 +162,7 @@ TEST(Checkpoint, IsphCavityResumesToTheSameBits) {
                                            {"wall_time_s", "time_per_step_s", "cpu_time_per_step_s",
                                             "ppe_assembly_s_per_step", "ppe_solve_s_per_step",
                                             "ppe_share", "time_per_particle_step_s"});
-  EXPECT_CONTAINS(msg, "resumed at t = 0.150000"); // cancelled at the first step after 50 %
+  EXPECT_CONTAINS(msg, "resumed at t = 0.15 "); // cancelled at the first step after 50 %
 }
 
 // The same cavity with the transport-velocity WCSPH (dual-criteria steps of varying size).
@@ -193,7 +193,8 @@ TEST(Checkpoint, AlsphCylinderChannelResumesToTheSameBits) {
     p["t_end"] = 0.25; // 60 steps; averages over the last 30
     std::string msg = expect_resume_is_exact(
         "cylinder_channel", p, 0.7, 9, // cancelled after the settling time: the sums are running
-        {"wall_s", "cpu_s", "search_cpu_us_per_particle", "shifting_cpu_us_per_particle",
+        {"wall_s", "cpu_s", "wall_time_s", "time_per_step_s", "cpu_time_per_step_s",
+         "time_per_particle_step_s", "search_cpu_us_per_particle", "shifting_cpu_us_per_particle",
          "cpu_us_per_particle_step", "iteration_cpu_us_per_particle", "refresh_cpu_us_per_particle",
          "search_over_iteration"});
     EXPECT_CONTAINS(msg, "resumed at t = 0.1778") << "algorithm " << algorithm;
@@ -210,7 +211,9 @@ TEST(Checkpoint, ContactShearLayerResumesToTheSameBits) {
   p["t_end"] = 3e-10;
   p["zeta"] = 1.0;
   std::string msg =
-      expect_resume_is_exact("shear_layer", p, 0.75, 40, {"wall_s", "wall_per_step_s"});
+      expect_resume_is_exact("shear_layer", p, 0.75, 40,
+                             {"wall_s", "wall_per_step_s", "wall_time_s", "time_per_step_s",
+                              "cpu_time_per_step_s", "time_per_particle_step_s"});
   EXPECT_CONTAINS(msg, "resumed at t = 2.2");
 }
 
@@ -285,6 +288,21 @@ steps = 600
   for (const auto& [name, value] : reference)
     EXPECT_TRUE(same_bits(resumed[name], value))
         << name << ": resumed " << resumed[name] << " vs uninterrupted " << value;
+}
+
+// Contact SPH flow through the cylinder array (the godunov_cylinders quick tier, corrected):
+// the body-force drive, the solid wall pairs and the superficial velocities sampled at 0.8 and
+// 0.9 t_end before the cancellation at 0.95.
+TEST(Checkpoint, ContactCylinderArrayResumesToTheSameBits) {
+  Params p = case_defaults("cylinder_array");
+  p["n_d"] = std::int64_t{8};
+  p["t_end_visc"] = 0.02;
+  p["zeta"] = 1.0;
+  std::string msg = expect_resume_is_exact("cylinder_array", p, 0.95, 50,
+                                           {"wall_s", "wall_per_step_s", "wall_time_s",
+                                            "time_per_step_s", "cpu_time_per_step_s",
+                                            "time_per_particle_step_s"});
+  EXPECT_CONTAINS(msg, "resumed at t = ");
 }
 
 // The wcsph_tvf cylinder: the force series, the partial sample bin and the symmetry nudge's flag.

@@ -53,6 +53,7 @@
 #pragma once
 
 #include "core/cell_list.hpp"
+#include "core/domain.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
 #include "io/checkpoint.hpp"
@@ -84,14 +85,12 @@ struct Options {
   double cfl = 0.3;                       // dt = cfl min D_i / (c0_i + |U_i|)
   double skin = 1.1;                      // search radius / largest pair support
   std::array<double, 3> g{0.0, 0.0, 0.0}; // body force per unit mass, m/s^2 (first D components)
+  std::string kernel = "wendland_c2";     // the unit-h kernel K(1) scaled per pair
+  std::string eta_num_text = "eq37";      // parameter eta_num as given ("eq37" or Pa s): eta_num
 };
 
-// A slip wall: the plane x_axis = position; fluid lies on the side `side` (+1: above, -1: below).
-struct SlipWall {
-  int axis = 0;
-  double position = 0.0;
-  int side = +1;
-};
+// A slip wall (core/domain.hpp): the plane x_axis = position, fluid on the side `side`.
+using sph::SlipWall;
 
 // Indices of the scheme's extra per-particle fields.
 struct Fields {
@@ -104,6 +103,26 @@ struct Fields {
     f.eta = p.add_scalar("eta");
     f.e = p.add_scalar("e");     // specific internal energy, J/kg
     f.src = p.add_scalar("src"); // Wall: id of the mirrored particle; -1 otherwise
+    return f;
+  }
+  // The fields of particles a case set up: the material fields rho0, c0 and eta by name (they must
+  // exist), e and src found or added.
+  template <int D>
+  static Fields find_in(Particles<D>& p) {
+    Fields f;
+    auto need = [&](const char* name) {
+      const int k = p.find_scalar(name);
+      if (k < 0)
+        throw std::invalid_argument(std::string("contact: the particles have no field '") + name +
+                                    "' (per-particle material: rho0, c0, eta)");
+      return k;
+    };
+    auto find_or_add = [&](const char* name) {
+      const int k = p.find_scalar(name);
+      return k >= 0 ? k : p.add_scalar(name);
+    };
+    f.rho0 = need("rho0"), f.c0 = need("c0"), f.eta = need("eta");
+    f.e = find_or_add("e"), f.src = find_or_add("src");
     return f;
   }
 };
@@ -194,10 +213,25 @@ public:
          std::vector<SlipWall> walls = {})
       : p_(p), f_(f), box_(box), o_(o), walls_(std::move(walls)), unit_(1.0) {}
 
-  static const std::vector<std::string>& stage_names() {
-    static const std::vector<std::string> names{
-        "neighbours", "eos", "rates", "predict", "ghosts", "eos", "rates", "correct", "ghosts"};
-    return names;
+  // The step: an ordered list of named stages, each a member run with the step size dt.
+  struct Stage {
+    const char* name;
+    void (Scheme::*run)(double dt);
+  };
+  static const std::vector<Stage>& stages() {
+    static const std::vector<Stage> s{
+        {"neighbours", &Scheme::neighbours}, {"eos", &Scheme::eos},
+        {"rates", &Scheme::rates},           {"predict", &Scheme::predict},
+        {"ghosts", &Scheme::ghosts},         {"eos", &Scheme::eos},
+        {"rates", &Scheme::rates},           {"correct", &Scheme::correct},
+        {"ghosts", &Scheme::ghosts}};
+    return s;
+  }
+  static std::vector<std::string> stage_names() {
+    std::vector<std::string> n;
+    for (const auto& st : stages())
+      n.emplace_back(st.name);
+    return n;
   }
 
   // Creates the mirror particles of the slip walls (call once, after the fluid is set up).
@@ -229,6 +263,13 @@ public:
 
   std::size_t num_ghosts() const { return ghost_axis_.size(); }
 
+  // The body force per unit mass from the next rate evaluation on (Options::g).
+  void set_body_force(const Vec<D>& g) {
+    for (int k = 0; k < D; ++k)
+      o_.g[k] = g[k];
+  }
+  const Options& options() const { return o_; }
+
   // Largest stable step: acoustic cfl D / (c0 + |U|) and viscous 0.125 D^2 rho / eta.
   double stable_dt() const {
     double dt = std::numeric_limits<double>::infinity();
@@ -248,8 +289,8 @@ public:
 
   // One step of size dt through the stage list.
   void step(double dt) {
-    for (const auto& s : stage_names())
-      run_stage(s, dt);
+    for (const auto& st : stages())
+      (this->*st.run)(dt);
   }
 
   // Numerical viscosity of particle i before the factor zeta: given, or eq. (37).
@@ -325,24 +366,12 @@ private:
 
   bool fluid(std::size_t i) const { return p_.kind[i] == Kind::Fluid; }
 
-  void run_stage(const std::string& s, double dt) {
-    if (s == "neighbours")
-      neighbours();
-    else if (s == "eos")
-      eos();
-    else if (s == "rates")
-      rates();
-    else if (s == "predict")
-      advance(0.5 * dt, false);
-    else if (s == "correct")
-      advance(dt, true);
-    else if (s == "ghosts")
-      ghosts();
-  }
+  void predict(double dt) { advance(0.5 * dt, false); }
+  void correct(double dt) { advance(dt, true); }
 
   // Cell list (re-created when particles grew past its radius), sort, neighbour list; saves the
   // state at the start of the step.
-  void neighbours() {
+  void neighbours(double = 0.0) {
     const double R = search_radius<K>(o_, max_size());
     if (!cells_ || cells_->support() < R / o_.skin * 1.0000001)
       cells_ = std::make_unique<CellList<D>>(box_, R);
@@ -369,7 +398,7 @@ private:
   }
 
   // Equation of state (4) and the per-particle factors of the pair terms.
-  void eos() {
+  void eos(double = 0.0) {
     const auto& rho0 = p_.scalar(f_.rho0);
     const auto& c0 = p_.scalar(f_.c0);
     const auto& eta = p_.scalar(f_.eta);
@@ -386,7 +415,7 @@ private:
     }
   }
 
-  void rates() {
+  void rates(double = 0.0) {
     Vec<D> g;
     for (int k = 0; k < D; ++k)
       g[k] = o_.g[k];
@@ -414,7 +443,7 @@ private:
   }
 
   // Mirror particles copy their source's state, reflected across their wall.
-  void ghosts() {
+  void ghosts(double = 0.0) {
     const std::size_t N = p_.size();
     const auto& src = p_.scalar(f_.src);
     for (std::size_t g = 0; g < N; ++g) {

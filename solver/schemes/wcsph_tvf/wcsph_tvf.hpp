@@ -11,7 +11,8 @@
 // geometry (W_ij, dW_ij, e_ij come from the neighbour list built at the end of the previous
 // advection step).
 //
-// Per advection step of size Dt (stage_names()):
+// Per advection step of size Dt (stage_names(): the list is built once from the options, a stage
+// that is off left out):
 //   density_summation  rho_i = rho0 sum_j W_ij / sigma0 (self term included; sigma0 = sum W on
 //                      the perfect lattice), V_i = m_i / rho_i                 (eq. 8) [notes 3]
 //   correction_matrix  (kernel_correction only) B_i = [sum_j V_j grad_i W_ij (x) (r_j - r_i)]^-1
@@ -386,13 +387,31 @@ template <int D, class K>
 class Scheme {
 public:
   Scheme(Particles<D>& p, const Fields& f, const Domain<D>& box, const Options& o)
-      : p_(p), f_(f), box_(box), o_(o), kernel_(o.h) {}
+      : p_(p), f_(f), box_(box), o_(o), kernel_(o.h), stages_(build_stages(o)) {}
 
-  static const std::vector<std::string>& stage_names() {
-    static const std::vector<std::string> names{"density_summation", "correction_matrix",
-                                                "viscous_force",     "transport",
-                                                "acoustic",          "neighbours"};
-    return names;
+  // The advection step: an ordered list of named stages built once from the options, leaving out
+  // what is off (the correction matrix without kernel_correction, the transport stage with
+  // tvf = none).
+  struct Stage {
+    const char* name;
+    void (Scheme::*run)(double Dt, StepInfo& info);
+  };
+  static std::vector<Stage> build_stages(const Options& o) {
+    std::vector<Stage> s{{"density_summation", &Scheme::density_summation}};
+    if (o.kernel_correction)
+      s.push_back({"correction_matrix", &Scheme::correction_matrix});
+    s.push_back({"viscous_force", &Scheme::viscous_force});
+    if (o.tvf != Tvf::None)
+      s.push_back({"transport", &Scheme::transport});
+    s.push_back({"acoustic", &Scheme::acoustic});
+    s.push_back({"neighbours", &Scheme::neighbours});
+    return s;
+  }
+  std::vector<std::string> stage_names() const {
+    std::vector<std::string> n;
+    for (const auto& st : stages_)
+      n.emplace_back(st.name);
+    return n;
   }
 
   const Options& options() const { return o_; }
@@ -443,7 +462,7 @@ public:
     }
     cells_ = std::make_unique<CellList<D>>(box_, variable() ? kernel_.support() * h_max / o_.h
                                                             : kernel_.support());
-    neighbours();
+    neighbour_search();
   }
 
   // Advection time step, eqs. (9)-(10), from the current velocities and the forces of the last
@@ -480,8 +499,8 @@ public:
     for (std::size_t i = 0; i < p_.size(); ++i)
       if (fluid(i))
         info.v_max = std::max(info.v_max, p_.v[i].norm());
-    for (const auto& s : stage_names())
-      run_stage(s, Dt, info);
+    for (const auto& st : stages_)
+      (this->*st.run)(Dt, info);
     return info;
   }
 
@@ -550,6 +569,7 @@ private:
   Domain<D> box_;
   Options o_;
   K kernel_;
+  std::vector<Stage> stages_; // the advection step, built once (build_stages)
   double sigma0_ = 1.0;
   std::unique_ptr<CellList<D>> cells_;
   NeighborList<D> nl_;
@@ -575,22 +595,10 @@ private:
     return [this](std::size_t i) { return fluid(i); };
   }
 
-  void run_stage(const std::string& s, double Dt, StepInfo& info) {
-    if (s == "density_summation")
-      density_summation();
-    else if (s == "correction_matrix")
-      correction_matrix();
-    else if (s == "viscous_force")
-      viscous_force();
-    else if (s == "transport")
-      transport(info);
-    else if (s == "acoustic")
-      acoustic(Dt, info);
-    else if (s == "neighbours")
-      neighbours();
+  void neighbours(double, StepInfo&) {
+    neighbour_search();
   }
-
-  void neighbours() {
+  void neighbour_search() {
     cells_->build(p_);
     if (variable())
       nl_.build(*cells_, p_.r, kernel_, p_.scalar(f_.h));
@@ -602,7 +610,7 @@ private:
     shift_.resize(N, Vec<D>::Zero()), a_tilde_.resize(N, Vec<D>::Zero());
   }
 
-  void density_summation() {
+  void density_summation(double, StepInfo&) {
     if (variable()) {
       ops::MassSummation<D> op{p_,
                                p_.scalar(f_.h),
@@ -623,9 +631,8 @@ private:
         p_.V[i] = p_.m[i] / p_.rho[i];
   }
 
-  void correction_matrix() {
-    if (o_.kernel_correction)
-      correction(B_, traceB_);
+  void correction_matrix(double, StepInfo&) {
+    correction(B_, traceB_);
   }
   // The correction matrices of the fluid particles on the current neighbour list.
   void correction(std::vector<Mat<D>>& B, std::vector<double>& trB) {
@@ -633,7 +640,7 @@ private:
     interact(nl_, op, fluid_only());
   }
 
-  void viscous_force() {
+  void viscous_force(double, StepInfo&) {
     prior_force(f_prior_);
   }
   // F_prior = F^nu + m g of the fluid particles on the current neighbour list.
@@ -646,13 +653,10 @@ private:
           out[i] += p_.m[i] * g_body_;
   }
 
-  // Eqs. (14)-(16) once per advection step, or Adami's a~ for the sub-steps.
-  void transport(StepInfo& info) {
+  // Eqs. (14)-(16) once per advection step, or Adami's a~ for the sub-steps (not a stage with
+  // tvf = none: the shift stays zero).
+  void transport(double, StepInfo& info) {
     const std::size_t N = p_.size();
-    if (o_.tvf == Tvf::None) {
-      std::fill(shift_.begin(), shift_.end(), Vec<D>::Zero());
-      return;
-    }
     if (o_.tvf == Tvf::Original) {
       ops::BackgroundPressure<D> op{p_, o_.pb_factor * o_.rho0 * o_.c0 * o_.c0, a_tilde_};
       interact(nl_, op, fluid_only());

@@ -1,8 +1,10 @@
-// checkpoint_demo: a small deterministic time-dependent case for tests of checkpoint/resume and
-// live progress (not an SPH benchmark). A periodic chain of n particles coupled by nonlinear
-// (Fermi-Pasta-Ulam-Tsingou alpha) springs, integrated by velocity Verlet for `steps` steps. The
-// state (x, v, a) is checkpointed through io::Checkpointer, so a killed or cancelled job resumes
-// where it stopped, and its metrics equal an uninterrupted run's bit for bit.
+// checkpoint_demo: a small deterministic time-dependent case for the runner's tests of
+// checkpoint/resume and live progress (not an SPH benchmark, so it lives in runner/, not in the
+// solver, and keeps its own few-line loop instead of the solver's time loop). A periodic chain of n
+// particles coupled by nonlinear (Fermi-Pasta-Ulam-Tsingou alpha) springs, integrated by velocity
+// Verlet for `steps` steps. The state (x, v, a) is checkpointed through io::Checkpointer, so a
+// killed or cancelled job resumes where it stopped, and its metrics equal an uninterrupted run's
+// bit for bit.
 #include "cases/case.hpp"
 #include "io/checkpoint.hpp"
 
