@@ -173,8 +173,9 @@ private:
 // cavity is arbitrary).
 std::string cavity_run_message(bool steady, double t, const std::string& resumed);
 struct CavityAttributes {
-  std::vector<std::pair<std::string, std::string>> text;
-  std::vector<std::pair<std::string, double>> number;
+  const Params& params; // every job parameter, typed, and the job key (io/job_attributes.hpp)
+  std::string job_key;
+  std::vector<std::pair<std::string, double>> number; // derived values (t_stop)
 };
 void write_cavity_h5(const std::filesystem::path& output_dir, bool cylinder,
                      const CavityAttributes& attrs, const std::vector<std::string>& history_names,
