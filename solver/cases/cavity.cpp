@@ -5,7 +5,7 @@
 // Per step: E_k and the largest |rho / rho0 - 1| of the fluid (density_dev_max: the
 // compressibility of a weakly-compressible scheme, about (U/c0)^2 = 1 % by design; 0 for ISPH);
 // the steady-state window (SteadyWindow: t_stop, steady = 1); a history sample every
-// output_interval (HDF5 history/{t, ke, density_dev} and the scheme's probes, ISPH: div_max,
+// history_interval (HDF5 history/{t, ke, density_dev} and the scheme's probes, ISPH: div_max,
 // ppe_iters), the scheme asked for its costly diagnostics on the steps that end on a sample.
 // Diverged when a fluid velocity is not finite or exceeds 20 U0 (checked every step).
 // At the end the solid particles take the no-slip mirror velocity the fluid sees, and the
@@ -104,10 +104,10 @@ std::vector<ParamSpec> cavity_params(bool cylinder) {
        0.0,
        {},
        true},
-      {"output_interval",
+      {"history_interval",
        ParamType::Real,
        0.1,
-       "time between samples of the E_k history",
+       "time between samples of the E_k history (HDF5 history/)",
        0.0,
        {},
        true,
@@ -117,6 +117,7 @@ std::vector<ParamSpec> cavity_params(bool cylinder) {
   if (cylinder)
     s.push_back(
         {"cylinder_d", ParamType::Real, 0.5, "cylinder diameter / L (centred)", 0.0, 0.9, true});
+  add_loop_params(s); // output_interval (cases/loop_params.hpp)
   return s;
 }
 

@@ -74,7 +74,7 @@ struct SteadyWindow {
 
 // What the 2D and 3D cavity cases watch while they run, the same for both (their FlowCase hooks
 // call it): the steady window (parameters steady_window, steady_tol), the largest |rho / rho0 - 1|
-// of the fluid (rho0 = 1), and the history sampled every output_interval and at t_end: t, E_k,
+// of the fluid (rho0 = 1), and the history sampled every history_interval and at t_end: t, E_k,
 // density deviation and the scheme's probes; the scheme is asked for its costly diagnostics on the
 // steps that end on a sample. Its checkpoint state is named under `prefix`.
 template <int D>
@@ -82,7 +82,7 @@ class CavityMonitor {
 public:
   CavityMonitor(const Params& prm, std::string prefix)
       : prefix_(std::move(prefix)), t_end_(get_real(prm, "t_end")),
-        out_dt_(get_real(prm, "output_interval")) {
+        out_dt_(get_real(prm, "history_interval")) {
     steady_.window = get_real(prm, "steady_window"), steady_.tol = get_real(prm, "steady_tol");
   }
 

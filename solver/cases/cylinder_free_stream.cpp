@@ -361,6 +361,7 @@ CaseInfo make_cylinder_free_stream_case() {
        "force series sample interval in D/U (each sample averages the steps of its interval)", 0.0,
        1e3, true},
   };
+  add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) {
     CylinderFreeStream cfs(prm, ctx);
     return run_flow_case<2>(cfs, prm, ctx, "wcsph_tvf");

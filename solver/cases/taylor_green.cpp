@@ -260,6 +260,7 @@ CaseInfo make_taylor_green_case() {
        "random shift of the initial lattice, fraction of dx (0: perfect lattice)", 0.0, 1.0},
       {"seed", ParamType::Int, std::int64_t{1}, "random seed of the perturbation", 0.0, {}},
   };
+  add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) {
     TaylorGreen tg(prm);
     tg.output_dir_ = ctx.output_dir, tg.job_key_ = ctx.job_key;
