@@ -192,7 +192,11 @@ SnapshotSeries::SnapshotSeries(std::filesystem::path dir, double interval)
 void SnapshotSeries::advance_k(double t) {
   if (interval_ <= 0.0)
     return;
-  while (due(t))
+  // The first multiple after t, without counting up to it (an interval far below the step).
+  const double q = std::floor(t / interval_);
+  if (q >= static_cast<double>(next_k_) && q < 1e15)
+    next_k_ = static_cast<long>(q);
+  while (due(t)) // round-off either way
     ++next_k_;
 }
 

@@ -238,6 +238,14 @@ TEST(ParticleSnapshot, SeriesTimesFinalStateAndResume) {
     snaps.final_state(0.5, 1);
   }
   EXPECT_EQ(io::read_pvd(dir / "particles.pvd").size(), 1u);
+  // An interval far below the step: every step once (not 3e7 increments per step).
+  {
+    io::ParticleSnapshots<2> snaps(dir, 1e-9, p, -1, 0.01, 0.0, 0);
+    for (long k = 1; k <= 3; ++k)
+      snaps.after_step(0.034 * k, k);
+    snaps.final_state(0.034 * 3, 3);
+  }
+  EXPECT_EQ(io::read_pvd(dir / "particles.pvd").size(), 4u);
   // No output directory: nothing is written.
   io::ParticleSnapshots<2> none("", 0.1, p, -1, 0.01, 0.0, 0);
   none.after_step(0.2, 1);
