@@ -100,6 +100,7 @@ int run_job_files(const std::filesystem::path& spec_path, const std::filesystem:
     RunContext ctx;
     ctx.threads = spec.threads;
     ctx.output_dir = spec.output_dir;
+    ctx.job_key = spec.key;
     ctx.cancel = &cancel_requested;
     ctx.attempt = spec.attempt;
     ctx.checkpoint_dir = spec.output_dir;

@@ -8,6 +8,7 @@ PACKAGES=(
   libsqlite3-dev sqlite3 libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libssl-dev
   libgtest-dev
   gnuplot-nox chromium
+  paraview python3-paraview xvfb xauth libgl1-mesa-dri python3-h5py # ParaView check of the snapshots
   slurm-wlm munge
 )
 missing=()

@@ -5,7 +5,7 @@
 // Per step: E_k and the largest |rho / rho0 - 1| of the fluid (density_dev_max: the
 // compressibility of a weakly-compressible scheme, about (U/c0)^2 = 1 % by design; 0 for ISPH);
 // the steady-state window (SteadyWindow: t_stop, steady = 1); a history sample every
-// output_interval (HDF5 history/{t, ke, density_dev} and the scheme's probes, ISPH: div_max,
+// history_interval (HDF5 history/{t, ke, density_dev} and the scheme's probes, ISPH: div_max,
 // ppe_iters), the scheme asked for its costly diagnostics on the steps that end on a sample.
 // Diverged when a fluid velocity is not finite or exceeds 20 U0 (checked every step).
 // At the end the solid particles take the no-slip mirror velocity the fluid sees, and the
@@ -28,6 +28,7 @@
 #include "core/lattice.hpp"
 #include "diagnostics/cavity_profiles.hpp"
 #include "io/hdf5.hpp"
+#include "io/job_attributes.hpp"
 #include "io/particle_fields.hpp"
 
 #include <chrono>
@@ -103,10 +104,10 @@ std::vector<ParamSpec> cavity_params(bool cylinder) {
        0.0,
        {},
        true},
-      {"output_interval",
+      {"history_interval",
        ParamType::Real,
        0.1,
-       "time between samples of the E_k history",
+       "time between samples of the E_k history (HDF5 history/)",
        0.0,
        {},
        true,
@@ -116,6 +117,7 @@ std::vector<ParamSpec> cavity_params(bool cylinder) {
   if (cylinder)
     s.push_back(
         {"cylinder_d", ParamType::Real, 0.5, "cylinder diameter / L (centred)", 0.0, 0.9, true});
+  add_loop_params(s); // output_interval (cases/loop_params.hpp)
   return s;
 }
 
@@ -164,10 +166,7 @@ public:
     res.add("steady", mon_.steady() ? 1.0 : 0.0);
     res.add("density_dev_max", mon_.density_dev_max());
     res.add("n_fluid", static_cast<double>(n_fluid_));
-    CavityAttributes attrs{{}, {{"Re", Re_}, {"dx", dx_}, {"t_stop", at.t}}};
-    for (const auto& [k, v] : prm_)
-      if (auto str = std::get_if<std::string>(&v))
-        attrs.text.emplace_back(k, *str);
+    const CavityAttributes attrs{prm_, job_key_, {{"t_stop", at.t}}};
     write_cavity_h5(output_dir_, cylinder_, attrs, mon_.history_names(), mon_.history(), prof, *p_);
   }
   std::string summary(const LoopState& at) const override {
@@ -179,6 +178,7 @@ public:
   void load_state(const StateArrays& in) override { mon_.load_state(in); }
 
   std::filesystem::path output_dir_;
+  std::string job_key_;
 
 private:
   const Params& prm_;
@@ -205,8 +205,8 @@ void write_cavity_h5(const std::filesystem::path& output_dir, bool cylinder,
     return;
   io::H5Writer w(output_dir /
                  (std::string(cylinder ? "cavity_cylinder" : "lid_driven_cavity") + ".h5"));
-  for (const auto& [k, v] : attrs.text)
-    w.attribute(k, v);
+  io::write_job_attributes(w, cylinder ? "cavity_cylinder" : "lid_driven_cavity", attrs.params,
+                           attrs.job_key);
   for (const auto& [k, v] : attrs.number)
     w.attribute(k, v);
   w.write_columns("history", history_names, history);
@@ -230,7 +230,7 @@ std::optional<std::string> cavity_dx_check(const Params& prm) {
 
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder) {
   Cavity c(prm, cylinder);
-  c.output_dir_ = ctx.output_dir;
+  c.output_dir_ = ctx.output_dir, c.job_key_ = ctx.job_key;
   return run_flow_case<2>(c, prm, ctx, "isph");
 }
 

@@ -74,7 +74,7 @@ struct SteadyWindow {
 
 // What the 2D and 3D cavity cases watch while they run, the same for both (their FlowCase hooks
 // call it): the steady window (parameters steady_window, steady_tol), the largest |rho / rho0 - 1|
-// of the fluid (rho0 = 1), and the history sampled every output_interval and at t_end: t, E_k,
+// of the fluid (rho0 = 1), and the history sampled every history_interval and at t_end: t, E_k,
 // density deviation and the scheme's probes; the scheme is asked for its costly diagnostics on the
 // steps that end on a sample. Its checkpoint state is named under `prefix`.
 template <int D>
@@ -82,7 +82,7 @@ class CavityMonitor {
 public:
   CavityMonitor(const Params& prm, std::string prefix)
       : prefix_(std::move(prefix)), t_end_(get_real(prm, "t_end")),
-        out_dt_(get_real(prm, "output_interval")) {
+        out_dt_(get_real(prm, "history_interval")) {
     steady_.window = get_real(prm, "steady_window"), steady_.tol = get_real(prm, "steady_tol");
   }
 
@@ -173,8 +173,9 @@ private:
 // cavity is arbitrary).
 std::string cavity_run_message(bool steady, double t, const std::string& resumed);
 struct CavityAttributes {
-  std::vector<std::pair<std::string, std::string>> text;
-  std::vector<std::pair<std::string, double>> number;
+  const Params& params; // every job parameter, typed, and the job key (io/job_attributes.hpp)
+  std::string job_key;
+  std::vector<std::pair<std::string, double>> number; // derived values (t_stop)
 };
 void write_cavity_h5(const std::filesystem::path& output_dir, bool cylinder,
                      const CavityAttributes& attrs, const std::vector<std::string>& history_names,

@@ -33,6 +33,7 @@
 // Cost (besides the time loop's): wall_s, wall_per_step_s, n_fluid, n_solid.
 // Runs on the shared time loop (cases/time_loop.hpp) with scheme contact; the drive is the
 // scheme's body acceleration; checkpoints carry the samples taken so far.
+#include "cases/loop_params.hpp"
 #include "cases/materials.hpp"
 #include "cases/time_loop.hpp"
 #include "core/lattice.hpp"
@@ -246,6 +247,7 @@ CaseInfo make_cylinder_array_case() {
        {},
        true},
   };
+  add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cylinder_array(prm, ctx); };
   return c;
 }

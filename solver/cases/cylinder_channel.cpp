@@ -58,10 +58,12 @@
 // and series after_step. Checkpoints: the particles as they end a step (their count changes:
 // inflow, outflow, ghosts), the series, the averaging sums, the scheme's timers and counters. A
 // resumed job continues bit for bit (tested).
+#include "cases/loop_params.hpp"
 #include "cases/shedding.hpp"
 #include "cases/time_loop.hpp"
 #include "core/kernels/quintic_spline.hpp"
 #include "io/hdf5.hpp"
+#include "io/job_attributes.hpp"
 #include "operators/interact.hpp"
 #include "schemes/alsph/scheme_info.hpp"
 
@@ -377,11 +379,7 @@ private:
       cp_mean[k] = cp_time_ > 0 ? cp_sum_[k] / cp_time_ : 0.0;
     w.write("cp/theta", theta0_);
     w.write("cp/cp_mean", cp_mean);
-    w.attribute("case", "cylinder_channel");
-    w.attribute("scheme", "alsph");
-    w.attribute("Re", Re_);
-    w.attribute("D_over_dx", 1.0 / dx_);
-    w.attribute("dt_star", dt_ / dx_);
+    io::write_job_attributes(w, "cylinder_channel", prm_, ctx_.job_key); // typed, job key
     w.attribute("t_settle", averaging_start());
     w.attribute("status", status);
     w.close();
@@ -425,6 +423,7 @@ CaseInfo make_cylinder_channel_case() {
        "time series sample interval in D/U (each sample averages the steps of its interval)", 0.0,
        1e3},
   };
+  add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cylinder_channel(prm, ctx); };
   return c;
 }

@@ -42,7 +42,8 @@
 // Taylor-Green case; fluid next to the cylinder counts its wall partners), costs: wall_s,
 // advection_steps, acoustic_steps, time_per_particle_step_s, n_particles.
 // HDF5 (<output_dir>/cylinder_free_stream.h5): series/{t,cd,cl} (one sample per sample_interval,
-// each the mean of the advection steps in it) and fields/{x,y,ux,uy,p} at t_end.
+// each the mean of the advection steps in it) and fields/{x,y,ux,uy,p} at t_end; root attributes:
+// the job's parameters typed, its key (io/job_attributes.hpp) and t_settle.
 // Time loop: the shared one (cases/time_loop.hpp); the smooth start's body acceleration is set
 // before each step, the sponge zones, the nudge, the force sample and the divergence test (max |u|
 // after the sponge, a force not finite) follow each step. A diverged run reports t_stop.
@@ -55,6 +56,7 @@
 #include "core/lattice.hpp"
 #include "diagnostics/signal.hpp"
 #include "io/hdf5.hpp"
+#include "io/job_attributes.hpp"
 #include "io/particle_fields.hpp"
 #include "schemes/wcsph_tvf/wcsph_tvf.hpp"
 
@@ -245,12 +247,9 @@ public:
     if (!ctx_.output_dir.empty()) {
       std::filesystem::create_directories(ctx_.output_dir);
       io::H5Writer h5(ctx_.output_dir / "cylinder_free_stream.h5");
-      h5.attribute("case", "cylinder_free_stream");
-      h5.attribute("tvf", get_string(prm_, "tvf"));
-      h5.attribute("Re", Re_);
-      h5.attribute("D_over_dx", 1.0 / dx_);
+      // The job's parameters typed and its key (io/job_attributes.hpp), and the settling time.
+      io::write_job_attributes(h5, "cylinder_free_stream", prm_, ctx_.job_key);
       h5.attribute("t_settle", t_settle_);
-      h5.attribute("force_filter_sigma", sigma_f);
       h5.write_columns("series", {"t", "cd", "cl", "cd_viscous", "cd_filtered", "cl_filtered"},
                        {ts_, cds_, cls_, cdvs_, cd_f, cl_f});
       io::write_fluid_fields(h5, p);
@@ -362,6 +361,7 @@ CaseInfo make_cylinder_free_stream_case() {
        "force series sample interval in D/U (each sample averages the steps of its interval)", 0.0,
        1e3, true},
   };
+  add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) {
     CylinderFreeStream cfs(prm, ctx);
     return run_flow_case<2>(cfs, prm, ctx, "wcsph_tvf");

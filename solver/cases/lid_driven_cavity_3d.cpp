@@ -24,7 +24,8 @@
 //   recorded without errors.
 //   Also ke, t_stop, steady, density_dev_max, n_fluid, the scheme's metrics and the loop's costs.
 // HDF5 (<output_dir>/lid_driven_cavity_3d.h5): history/{t,ke,density_dev,...},
-// profile_x0.5/{z,ux}, profile_z0.5/{x,uz}.
+// profile_x0.5/{z,ux}, profile_z0.5/{x,uz}; root attributes: the job's parameters typed, its key
+// (io/job_attributes.hpp) and t_stop.
 #include "cases/cavity.hpp"
 #include "cases/time_loop.hpp"
 #include "core/kernels/kernel.hpp"
@@ -32,6 +33,7 @@
 #include "diagnostics/cavity_profiles.hpp"
 #include "diagnostics/profiles.hpp"
 #include "io/hdf5.hpp"
+#include "io/job_attributes.hpp"
 
 #include <array>
 #include <cmath>
@@ -198,10 +200,8 @@ public:
     res.add("n_fluid", static_cast<double>(n_fluid_));
     if (!output_dir_.empty()) {
       io::H5Writer w(output_dir_ / "lid_driven_cavity_3d.h5");
-      for (const auto& [k, v] : prm_)
-        if (auto str = std::get_if<std::string>(&v))
-          w.attribute(k, *str);
-      w.attribute("Re", Re_), w.attribute("dx", dx_), w.attribute("t_stop", at.t);
+      io::write_job_attributes(w, "lid_driven_cavity_3d", prm_, job_key_); // typed, job key
+      w.attribute("t_stop", at.t);
       w.write_columns("history", mon_.history_names(), mon_.history());
       w.write_columns("profile_x0.5", {"z", "ux"}, {zl, ul});
       w.write_columns("profile_z0.5", {"x", "uz"}, {xl, wl});
@@ -217,6 +217,7 @@ public:
   void load_state(const StateArrays& in) override { mon_.load_state(in); }
 
   std::filesystem::path output_dir_;
+  std::string job_key_;
 
 private:
   static constexpr double U0 = 1.0;
@@ -243,7 +244,7 @@ CaseInfo make_lid_driven_cavity_3d_case() {
 
   c.run = [](const Params& prm, const RunContext& ctx) {
     Cavity3D cav(prm);
-    cav.output_dir_ = ctx.output_dir;
+    cav.output_dir_ = ctx.output_dir, cav.job_key_ = ctx.job_key;
     return run_flow_case<3>(cav, prm, ctx, "wcsph_tvf");
   };
   c.check = cavity_dx_check; // the lattice's constraint, checked when the study is validated

@@ -32,6 +32,7 @@
 // Flow::slip_walls. Divergence: a density deviation above 50 % (or a speed above 10 (c0 + U0)).
 // Checkpoints: every particle field (ghosts included), the scheme's search count and cell radius,
 // the fits made so far and this case's sums. A resumed job continues bit for bit (tested).
+#include "cases/loop_params.hpp"
 #include "cases/materials.hpp"
 #include "cases/time_loop.hpp"
 #include "core/lattice.hpp"
@@ -348,6 +349,7 @@ CaseInfo make_shear_layer_case() {
        100000.0},
       {"nz", ParamType::Int, std::int64_t{4}, "particles in depth (3D, periodic)", 1.0, 100000.0},
   };
+  add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) {
     return get_int(prm, "dim") == 3 ? run_shear_layer<3>(prm, ctx) : run_shear_layer<2>(prm, ctx);
   };

@@ -29,7 +29,8 @@
 //   advection_steps, acoustic_steps, wall_s, time_per_particle_step_s (wall over particles x
 //   acoustic sub-steps), time_per_particle_adv_step_s, n_particles
 // With an output directory, <output_dir>/taylor_green.h5 holds the per-step series
-// (series/t, ke, ke_exact, umax, umax_exact, tv_max, tv_ratio, sumW_spread) and final fields.
+// (series/t, ke, ke_exact, umax, umax_exact, tv_max, tv_ratio, sumW_spread), final fields and the
+// job's typed parameters and key as root attributes (io/job_attributes.hpp).
 // With a checkpoint directory the run saves its whole state every N steps / M seconds and on
 // cancellation, and resumes from it bit for bit (tests/solver/test_wcsph_tvf.cpp).
 #include "cases/case.hpp"
@@ -38,6 +39,7 @@
 #include "core/lattice.hpp"
 #include "diagnostics/profiles.hpp"
 #include "io/hdf5.hpp"
+#include "io/job_attributes.hpp"
 #include "io/particle_fields.hpp"
 #include "schemes/wcsph_tvf/wcsph_tvf.hpp"
 
@@ -163,9 +165,7 @@ public:
     res.add("time_per_particle_adv_step_s", wall / (N * steps));
     if (!output_dir_.empty()) {
       io::H5Writer w(output_dir_ / "taylor_green.h5");
-      w.attribute("tvf", get_string(prm_, "tvf"));
-      w.attribute("n_side", static_cast<double>(n_));
-      w.attribute("Re", Re_);
+      io::write_job_attributes(w, "taylor_green", prm_, job_key_); // typed, with the job key
       w.write_columns("series", names(), s_);
       io::write_fluid_fields(w, *p_); // every particle is fluid
       w.close();
@@ -192,6 +192,7 @@ public:
   }
 
   std::filesystem::path output_dir_;
+  std::string job_key_;
 
 private:
   using clock = std::chrono::steady_clock;
@@ -259,9 +260,10 @@ CaseInfo make_taylor_green_case() {
        "random shift of the initial lattice, fraction of dx (0: perfect lattice)", 0.0, 1.0},
       {"seed", ParamType::Int, std::int64_t{1}, "random seed of the perturbation", 0.0, {}},
   };
+  add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) {
     TaylorGreen tg(prm);
-    tg.output_dir_ = ctx.output_dir;
+    tg.output_dir_ = ctx.output_dir, tg.job_key_ = ctx.job_key;
     return run_flow_case<2>(tg, prm, ctx, "wcsph_tvf");
   };
   return c;

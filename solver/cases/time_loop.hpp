@@ -11,6 +11,10 @@
 //                checkpoint when due (every N steps / M s), progress
 //        case.finish (final metrics and outputs), scheme.add_metrics, the loop's cost metrics.
 //
+// With an output directory the loop writes particle snapshots for ParaView (every particle, every
+// `output_interval` of simulated time and the final state, also of a diverged run:
+// io/particle_snapshot.hpp, parameter in cases/loop_params.hpp). They only read the particles.
+//
 // Checkpoints are named arrays (key -> array): every particle field ("p/..."), the loop's state
 // ("loop/costs"), the case's (case.state_names()) and the scheme's (scheme.state_names()). A
 // resumed job rebuilds the initial configuration (so reference densities are the same), restores
@@ -25,8 +29,10 @@
 #pragma once
 
 #include "cases/case.hpp"
+#include "cases/loop_params.hpp"
 #include "io/checkpoint.hpp"
 #include "io/particle_checkpoint.hpp"
+#include "io/particle_snapshot.hpp"
 #include "schemes/scheme.hpp"
 
 #include <algorithm>
@@ -129,6 +135,8 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       resumed = io::resumed_message(at.t, ctx.attempt);
     }
   }
+  io::ParticleSnapshots<D> snaps(ctx.output_dir, output_interval(prm), p, flow.h, s->h(), at.t,
+                                 at.steps);
   const std::clock_t cpu0 = std::clock();
   auto cpu_so_far = [&] {
     return cpu_before + static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
@@ -162,6 +170,7 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     res.add("n_particles", N);
   };
   auto diverged = [&](const std::string& why) {
+    snaps.final_state(at.t, at.steps);
     at.wall_s = wall_so_far(), at.cpu_s = cpu_so_far();
     res.status = RunStatus::Diverged;
     res.add("t_stop", at.t);
@@ -200,12 +209,14 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     } catch (const std::runtime_error& e) { // a broken state the case detects (a force not finite)
       return diverged(e.what());
     }
+    snaps.after_step(at.t, at.steps);
     if (stop)
       break;
     if (ck.due(at.steps))
       save();
     ctx.report(at.t / at.t_end);
   }
+  snaps.final_state(at.t, at.steps);
   at.wall_s = wall_so_far(), at.cpu_s = cpu_so_far();
   c.finish(*s, at, res);
   add_costs();

@@ -17,6 +17,9 @@ struct RunContext {
   std::filesystem::path output_dir;          // where the job may write HDF5 outputs; empty: none
   std::function<void(double)> progress;      // fraction of simulated time done, 0..1 (may be empty)
   const std::atomic<bool>* cancel = nullptr; // set when the job must stop (timeout, shutdown)
+  // The runner's job key (SHA-256 of the job's identity), for the outputs to name their job
+  // (io/job_attributes.hpp); empty outside the runner.
+  std::string job_key;
   // Checkpoints (io/checkpoint.hpp) of a long job: the directory where it saves and finds its
   // checkpoint (kept by the runner across attempts of the same job; empty: none), and how often
   // to save (0: never on that criterion). attempt: 1 for the first run, 2... for re-runs.

@@ -94,30 +94,58 @@ void H5Writer::write_columns(const std::string& group, const std::vector<std::st
   }
 }
 
-void H5Writer::attribute(const std::string& key, const std::string& value) {
-  const hid_t type = H5Tcopy(H5T_C_S1);
-  H5Tset_size(type, value.empty() ? 1 : value.size());
+// A scalar attribute of HDF5 type `type` (file and memory type alike) on the root group; an
+// attribute of that name is replaced.
+void H5Writer::scalar_attribute(const std::string& key, std::int64_t type, const void* value) {
+  if (file_ < 0)
+    fail("attribute after close", path_);
+  if (H5Aexists(file_, key.c_str()) > 0 && H5Adelete(file_, key.c_str()) < 0)
+    fail("cannot replace attribute " + key, path_);
   const hid_t space = H5Screate(H5S_SCALAR);
   const hid_t attr = H5Acreate2(file_, key.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
-  const herr_t st = attr < 0 ? -1 : H5Awrite(attr, type, value.empty() ? "" : value.data());
+  const herr_t st = attr < 0 ? -1 : H5Awrite(attr, type, value);
   if (attr >= 0)
     H5Aclose(attr);
   H5Sclose(space);
-  H5Tclose(type);
   if (st < 0)
     fail("cannot write attribute " + key, path_);
 }
 
+void H5Writer::attribute(const std::string& key, const std::string& value) {
+  // A variable-length UTF-8 string: what h5py writes for a Python str and reads back as one.
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  const char* text = value.c_str();
+  try {
+    scalar_attribute(key, type, &text);
+  } catch (...) {
+    H5Tclose(type);
+    throw;
+  }
+  H5Tclose(type);
+}
+
 void H5Writer::attribute(const std::string& key, double value) {
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t attr =
-      H5Acreate2(file_, key.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
-  const herr_t st = attr < 0 ? -1 : H5Awrite(attr, H5T_NATIVE_DOUBLE, &value);
-  if (attr >= 0)
-    H5Aclose(attr);
-  H5Sclose(space);
-  if (st < 0)
-    fail("cannot write attribute " + key, path_);
+  scalar_attribute(key, H5T_NATIVE_DOUBLE, &value);
+}
+
+void H5Writer::attribute(const std::string& key, std::int64_t value) {
+  scalar_attribute(key, H5T_NATIVE_INT64, &value);
+}
+
+void H5Writer::attribute_bool(const std::string& key, bool value) {
+  const hid_t type = H5Tenum_create(H5T_NATIVE_INT8);
+  const std::int8_t f = 0, t = 1, v = value ? 1 : 0;
+  H5Tenum_insert(type, "FALSE", &f);
+  H5Tenum_insert(type, "TRUE", &t);
+  try {
+    scalar_attribute(key, type, &v);
+  } catch (...) {
+    H5Tclose(type);
+    throw;
+  }
+  H5Tclose(type);
 }
 
 std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& name) {

@@ -25,9 +25,17 @@ public:
   // A table: one 1-D dataset per column under `group`, all of the same length.
   void write_columns(const std::string& group, const std::vector<std::string>& names,
                      const std::vector<std::vector<double>>& columns);
-  // Attributes on the file's root group.
+  // Attributes on the file's root group, typed: a string (variable-length UTF-8), a double
+  // (IEEE 64-bit), an integer (signed 64-bit) or a boolean (the HDF5 enum h5py writes for numpy
+  // bool: FALSE = 0, TRUE = 1 over an 8-bit integer; h5py reads it back as a bool). Writing a
+  // key again replaces its attribute.
   void attribute(const std::string& key, const std::string& value);
   void attribute(const std::string& key, double value);
+  void attribute(const std::string& key, std::int64_t value);
+  void attribute(const std::string& key, int value) {
+    attribute(key, static_cast<std::int64_t>(value));
+  }
+  void attribute_bool(const std::string& key, bool value);
 
   // Flushes, closes and renames the file into place. Idempotent.
   void close();
@@ -36,6 +44,7 @@ private:
   std::filesystem::path path_, tmp_;
   std::int64_t file_ = -1; // hid_t
   void ensure_groups(const std::string& name);
+  void scalar_attribute(const std::string& key, std::int64_t type, const void* value);
 };
 
 // Reads a whole 1-D (or flattened N-D) dataset of doubles.

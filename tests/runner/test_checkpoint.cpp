@@ -157,7 +157,7 @@ TEST(Checkpoint, IsphCavityResumesToTheSameBits) {
   p["dx"] = 0.05;
   p["t_end"] = 0.3;
   p["steady_window"] = 0.05; // several windows, one of them split by the checkpoint
-  p["output_interval"] = 0.02;
+  p["history_interval"] = 0.02;
   std::string msg = expect_resume_is_exact("lid_driven_cavity", p, 0.5, 70,
                                            {"wall_time_s", "time_per_step_s", "cpu_time_per_step_s",
                                             "ppe_assembly_s_per_step", "ppe_solve_s_per_step",
@@ -172,7 +172,7 @@ TEST(Checkpoint, WcsphTvfCavityResumesToTheSameBits) {
   p["Re"] = 1000.0;
   p["t_end"] = 0.5;
   p["steady_window"] = 0.1;
-  p["output_interval"] = 0.05;
+  p["history_interval"] = 0.05;
   std::string msg = expect_resume_is_exact(
       "lid_driven_cavity", p, 0.5, 11,
       {"wall_time_s", "time_per_step_s", "cpu_time_per_step_s", "time_per_particle_step_s"});

@@ -42,7 +42,8 @@ template <int D, class K>
 class Adapter final : public FlowScheme<D> {
 public:
   Adapter(const Options& o, const Flow<D>& flow)
-      : kernel_(o.kernel), s_(*flow.p, Fields::find_in(*flow.p), flow.box, o, flow.slip_walls) {}
+      : kernel_(o.kernel), h0_(o.alpha * 2.0 * flow.dx),
+        s_(*flow.p, Fields::find_in(*flow.p), flow.box, o, flow.slip_walls) {}
 
   void init() override { s_.init(); }
 
@@ -60,9 +61,9 @@ public:
   void wall_velocities_for_output() override {} // solids at rest, mirror ghosts carry their own
   const NeighborList<D>& neighbors() const override { return s_.neighbors(); }
   const std::string& kernel_name() const override { return kernel_; }
-  double h() const override {
-    throw std::logic_error("contact: the smoothing length varies per pair (h_ij, eq. 12)");
-  }
+  // The smoothing length of a pair of particles of the initial size D0 = flow.dx, alpha 2 D0
+  // (eq. 12; h_ij varies with the particle sizes).
+  double h() const override { return h0_; }
   // The fluid's force on the solids: minus the solids' force on the fluid at the last midpoint.
   Vec<D> force_on_walls(Vec<D>* viscous) override {
     if (viscous)
@@ -82,6 +83,7 @@ public:
 
 private:
   std::string kernel_;
+  double h0_;
   Scheme<D, K> s_;
 };
 

@@ -1,0 +1,34 @@
+// The root attributes that tie a job's HDF5 output to its job (issue 16, part 2): job_key (the
+// runner's SHA-256 job key, when the run has one: RunContext::job_key), case, and every resolved
+// parameter of the job under its own name with its own type: Int as a 64-bit integer, Real as a
+// double, String as a string, Bool as h5py's boolean enum (io/hdf5.hpp). A reader (h5py:
+// f.attrs["n_side"] is an integer, f.attrs["tvf"] a string) needs no table of the case's
+// parameters to know what made the file.
+#pragma once
+
+#include "core/params.hpp"
+#include "io/hdf5.hpp"
+
+#include <string>
+#include <variant>
+
+namespace sph::io {
+
+inline void write_job_attributes(H5Writer& w, const std::string& case_name, const Params& prm,
+                                 const std::string& job_key) {
+  if (!job_key.empty())
+    w.attribute("job_key", job_key);
+  w.attribute("case", case_name);
+  for (const auto& [k, v] : prm) {
+    if (const auto* b = std::get_if<bool>(&v))
+      w.attribute_bool(k, *b);
+    else if (const auto* i = std::get_if<std::int64_t>(&v))
+      w.attribute(k, *i);
+    else if (const auto* x = std::get_if<double>(&v))
+      w.attribute(k, *x);
+    else
+      w.attribute(k, std::get<std::string>(v));
+  }
+}
+
+} // namespace sph::io
