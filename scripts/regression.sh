@@ -67,7 +67,7 @@ else
   rows=$(($(wc -l <"$file") - 1))
   added=$(grep -c '^added: ' "$TMP/diff.txt" || true)
   bad=$(grep -c -v '^added: ' "$TMP/diff.txt" || true)
-  grep '^added: ' "$TMP/diff.txt" | sed 's/^/regression: /' | head -"${SHOW_ADDED:-20}"
+  { grep '^added: ' "$TMP/diff.txt" || true; } | sed 's/^/regression: /' | head -"${SHOW_ADDED:-20}"
   if ((bad == 0)); then
     echo "regression: identical to $file ($rows metric rows; $added rows of new metrics)"
   else

@@ -152,7 +152,7 @@ private:
         d = std::max(d, std::abs(p.rho[i] - 1.0)); // rho0 = 1
     return d;
   }
-  void sample(const Particles<D>& p, const FlowScheme<D>& s, double t, double ke, double drho) {
+  void sample(const Particles<D>&, const FlowScheme<D>& s, double t, double ke, double drho) {
     std::vector<std::pair<std::string, double>> row{{"t", t}, {"ke", ke}, {"density_dev", drho}};
     for (auto& pr : s.probes())
       row.push_back(pr);

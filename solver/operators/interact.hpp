@@ -41,6 +41,24 @@ void interact(const NeighborList<D>& nl, Op& op, Select select = {}) {
   }
 }
 
+// The same loop for operators on per-pair data cached by the caller (coefficients computed once
+// per neighbour configuration): op.pair(i, j, k, acc) gets the pair's index k into the list's
+// arrays instead of a Pair, so the loop loads only what the operator reads.
+template <int D, class Op, class Select = AllParticles>
+void interact_indexed(const NeighborList<D>& nl, Op& op, Select select = {}) {
+  const std::size_t N = nl.num_particles();
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t i = 0; i < N; ++i) {
+    if (!select(i))
+      continue;
+    auto acc = op.init(i);
+    const std::uint32_t end = nl.offset[i + 1];
+    for (std::uint32_t k = nl.offset[i]; k < end; ++k)
+      op.pair(i, nl.j[k], k, acc);
+    op.finish(i, acc);
+  }
+}
+
 template <int D, class Kernel, class Op, class Select = AllParticles>
 void interact(const CellList<D>& cells, const std::vector<Vec<D>>& x, const Kernel& kernel, Op& op,
               Select select = {}) {

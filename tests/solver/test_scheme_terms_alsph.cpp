@@ -24,13 +24,15 @@ namespace {
 
 using Lat = PaddedLattice<QuinticSpline<2>>;
 
-// Gamma on every particle (the ops of eqs. 8-11 use it on the sampled ones).
-std::vector<Mat<2>> correction(const Lat& L) {
+// Gamma on every particle and the pair coefficients the ops of eqs. 8-11 read (eta = 0).
+alsph::ops::PairCoefficients<2> coefficients(const Lat& L) {
   std::vector<Mat<2>> gamma(L.p.size());
   std::vector<double> tr(L.p.size());
   CorrectionMatrix<2> cm{L.p.V, gamma, tr};
   interact(L.nl, cm);
-  return gamma;
+  alsph::ops::PairCoefficients<2> c;
+  c.compute(L.nl, L.p.V, gamma, 0.0);
+  return c;
 }
 
 } // namespace
@@ -40,7 +42,7 @@ std::vector<Mat<2>> correction(const Lat& L) {
 // + g) to round-off; a body particle gets u* = 0 and the pseudo-acceleration a_s = r_AL c + nu lap.
 TEST(AlsphTerms, PredictPenaltyAndViscousTerms) {
   Lat L(16, 1.0, 0.5, 3);
-  const auto gamma = correction(L);
+  const auto coef = coefficients(L);
   const std::size_t N = L.p.size();
   const Vec2 c(0.8, -1.5), g(0.0, -0.3);
   std::vector<double> div(N);
@@ -55,8 +57,8 @@ TEST(AlsphTerms, PredictPenaltyAndViscousTerms) {
     ++body;
   L.p.kind[body] = Kind::Body;
   const double r_al = 0.4, nu = 0.01, dt = 1e-3;
-  alsph::ops::Predict<2> op{L.p.V, gamma, div, lap, un, L.p.kind, r_al, nu, dt, g, us, as};
-  interact(L.nl, op, [&](std::size_t i) { return L.p.kind[i] != Kind::Buffer; });
+  alsph::ops::Predict<2> op{L.p.V, coef, div, lap, un, L.p.kind, r_al, nu, dt, g, us, as};
+  interact_indexed(L.nl, op, [&](std::size_t i) { return L.p.kind[i] != Kind::Buffer; });
   for (std::size_t i = 0; i < N; ++i) {
     if (L.p.kind[i] == Kind::Fluid)
       ASSERT_LT((us[i] - (un[i] + dt * (r_al * c + nu * lap[i] + g))).norm(), 1e-12) << i;
@@ -71,7 +73,7 @@ TEST(AlsphTerms, PredictPenaltyAndViscousTerms) {
 // p_new = p - r_AL rho (tr A - dt / rho tr H) to round-off (1e-9 relative).
 TEST(AlsphTerms, PressureUpdateOnLinearVelocityAndQuadraticPressure) {
   Lat L(16, 1.0);
-  const auto gamma = correction(L);
+  const auto coef = coefficients(L);
   const std::size_t N = L.p.size();
   Mat<2> A, H;
   A << 0.3, -1.2, 0.7, 0.5;
@@ -84,8 +86,8 @@ TEST(AlsphTerms, PressureUpdateOnLinearVelocityAndQuadraticPressure) {
     p[i] = 0.5 * x.dot(H * x) + 3.0;
   }
   const double r_al = 0.4, rho = 2.0, dt = 1e-2;
-  alsph::ops::PressureUpdate<2> op{L.p.V, gamma, us, p, 0.0, r_al, rho, dt, pn, ds};
-  interact(L.nl, op, L.sampled());
+  alsph::ops::PressureUpdate<2> op{L.p.V, coef, us, p, r_al, rho, dt, pn, ds};
+  interact_indexed(L.nl, op, L.sampled());
   for (std::size_t i = 0; i < N; ++i)
     if (L.fluid(i)) {
       ASSERT_NEAR(ds[i], A.trace(), 1e-10) << i;
@@ -97,15 +99,15 @@ TEST(AlsphTerms, PressureUpdateOnLinearVelocityAndQuadraticPressure) {
 // Eq. (11): u = u* - dt / rho <grad p>, exact for a linear p on a disordered lattice.
 TEST(AlsphTerms, CorrectionOnLinearPressure) {
   Lat L(16, 1.0, 0.6, 9);
-  const auto gamma = correction(L);
+  const auto coef = coefficients(L);
   const std::size_t N = L.p.size();
   const Vec2 G(2.0, -3.0);
   std::vector<double> p(N);
   std::vector<Vec2> us(N, Vec2(0.2, 0.1)), gp(N), u(N);
   for (std::size_t i = 0; i < N; ++i)
     p[i] = 1.0 + G.dot(L.p.r[i]);
-  alsph::ops::Correct<2> op{L.p.V, gamma, p, us, 0.01 / 2.0, gp, u};
-  interact(L.nl, op, L.sampled());
+  alsph::ops::Correct<2> op{L.p.V, coef, p, us, 0.01 / 2.0, gp, u};
+  interact_indexed(L.nl, op, L.sampled());
   for (std::size_t i = 0; i < N; ++i)
     if (L.fluid(i)) {
       ASSERT_LT((gp[i] - G).norm(), 1e-10) << i;

@@ -17,12 +17,16 @@
 // which is how we read eq. (16) (its printed tensor form does not contract to a scalar; this is
 // the same operator as VISC-04 of seed 001, eq. 20, second-order on a regular lattice).
 //
-// One neighbour search per step: the NeighborList built on r^n is reused by every iteration.
-//   algorithm 2: derivatives on r^n (the cached W, dW, Gamma, V are used unchanged);
+// One neighbour search per step: the NeighborList built on r^n is reused by every iteration, and
+// so are the pair coefficients of the derivatives (ops::PairCoefficients: Gamma_i grad_i W_ij and
+// the Laplacian coefficient, computed with V and Gamma in geometry()), so that the loops of the
+// inner iterations are multiply-adds on cached values (interact_indexed).
+//   algorithm 2: derivatives on r^n (the cached W, dW, Gamma, V and coefficients unchanged);
 //   algorithm 1: derivatives on r^{n+1,m}: before iteration m >= 1 the cached pair list is kept
 //     but r_ij, r, W, dW are recomputed from the moved positions (r_ij += dr_i - dr_j, so periodic
-//     images stay correct), then V and Gamma are recomputed. Pairs that enter the support during
-//     the step are missed (displacements within a step are <= u_max dt, a few % of dx here).
+//     images stay correct), then V, Gamma and the coefficients are recomputed. Pairs that enter the
+//     support during the step are missed (displacements within a step are <= u_max dt, a few % of
+//     dx here).
 // Particle roles by Kind: Fluid is integrated; Body is fixed (u = 0) and gets eq. (20); Buffer
 // keeps its velocity (inlet/outlet zones, pressure set by the case's hook); Wall are mirror ghosts
 // (MirrorGhosts) synchronised after every update.
@@ -89,13 +93,37 @@ struct Timers {
 
 namespace ops {
 
-// <grad u>, <div u> = tr <grad u>, <lap u> (eqs. 15-17).
+// The per-pair coefficients of the derivatives (eqs. 15-16), cached once per neighbour
+// configuration (once per step for algorithm 2, after every pair refresh for algorithm 1) and read
+// by every inner-iteration loop: gw_k = Gamma_i grad_i W_ij and the Laplacian coefficient
+// lap_k = 2 V_j (r_ij . Gamma_i grad_i W_ij) / (r_ij^2 + eta^2), for pair k = (i, j) of the list.
+template <int D>
+struct PairCoefficients {
+  std::vector<Vec<D>> gw;
+  std::vector<double> lap;
+
+  void compute(const NeighborList<D>& nl, const std::vector<double>& V,
+               const std::vector<Mat<D>>& gamma, double eta2) {
+    const std::size_t N = nl.num_particles();
+    gw.resize(nl.num_pairs()), lap.resize(nl.num_pairs());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < N; ++i)
+      for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Pair<D> q = nl.pair(k);
+        const Vec<D> g = gamma[i] * q.grad();
+        gw[k] = g;
+        lap[k] = 2.0 * V[q.j] * q.r_ij.dot(g) / (q.r * q.r + eta2);
+      }
+  }
+};
+
+// <grad u>, <div u> = tr <grad u>, <lap u> (eqs. 15-17), on the cached pair coefficients
+// (interact_indexed).
 template <int D>
 struct VelocityDerivatives {
   const std::vector<double>& V;
-  const std::vector<Mat<D>>& gamma;
+  const PairCoefficients<D>& c;
   const std::vector<Vec<D>>& u;
-  double eta2;
   std::vector<Mat<D>>& grad_u;
   std::vector<double>& div;
   std::vector<Vec<D>>& lap_u;
@@ -105,11 +133,10 @@ struct VelocityDerivatives {
     Vec<D> lap = Vec<D>::Zero();
   };
   Acc init(std::size_t) const { return {}; }
-  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
-    const Vec<D> gw = gamma[i] * q.grad();
-    const Vec<D> du = u[q.j] - u[i];
-    a.g.noalias() += V[q.j] * du * gw.transpose();
-    a.lap -= (2.0 * V[q.j] * q.r_ij.dot(gw) / (q.r * q.r + eta2)) * du;
+  void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
+    const Vec<D> du = u[j] - u[i];
+    a.g.noalias() += V[j] * du * c.gw[k].transpose();
+    a.lap -= c.lap[k] * du;
   }
   void finish(std::size_t i, const Acc& a) {
     grad_u[i] = a.g;
@@ -123,7 +150,7 @@ struct VelocityDerivatives {
 template <int D>
 struct Predict {
   const std::vector<double>& V;
-  const std::vector<Mat<D>>& gamma;
+  const PairCoefficients<D>& c;
   const std::vector<double>& div;
   const std::vector<Vec<D>>& lap_u;
   const std::vector<Vec<D>>& u_n;
@@ -137,8 +164,8 @@ struct Predict {
     Vec<D> gd = Vec<D>::Zero();
   };
   Acc init(std::size_t) const { return {}; }
-  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
-    a.gd += (V[q.j] * (div[q.j] - div[i])) * (gamma[i] * q.grad());
+  void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
+    a.gd += (V[j] * (div[j] - div[i])) * c.gw[k];
   }
   void finish(std::size_t i, const Acc& a) {
     const Vec<D> acc = r_al * a.gd + nu * lap_u[i];
@@ -155,10 +182,10 @@ struct Predict {
 template <int D>
 struct PressureUpdate {
   const std::vector<double>& V;
-  const std::vector<Mat<D>>& gamma;
+  const PairCoefficients<D>& c;
   const std::vector<Vec<D>>& u_star;
   const std::vector<double>& p;
-  double eta2, r_al, rho, dt;
+  double r_al, rho, dt;
   std::vector<double>& p_new;
   std::vector<double>& div_star;
 
@@ -166,10 +193,9 @@ struct PressureUpdate {
     double div = 0.0, lap = 0.0;
   };
   Acc init(std::size_t) const { return {}; }
-  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
-    const Vec<D> gw = gamma[i] * q.grad();
-    a.div += V[q.j] * (u_star[q.j] - u_star[i]).dot(gw);
-    a.lap += 2.0 * V[q.j] * q.r_ij.dot(gw) / (q.r * q.r + eta2) * (p[i] - p[q.j]);
+  void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
+    a.div += V[j] * (u_star[j] - u_star[i]).dot(c.gw[k]);
+    a.lap += c.lap[k] * (p[i] - p[j]);
   }
   void finish(std::size_t i, const Acc& a) {
     div_star[i] = a.div;
@@ -210,7 +236,7 @@ struct BodyPressure {
 template <int D>
 struct Correct {
   const std::vector<double>& V;
-  const std::vector<Mat<D>>& gamma;
+  const PairCoefficients<D>& c;
   const std::vector<double>& p;
   const std::vector<Vec<D>>& u_star;
   double dt_over_rho;
@@ -221,8 +247,8 @@ struct Correct {
     Vec<D> g = Vec<D>::Zero();
   };
   Acc init(std::size_t) const { return {}; }
-  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
-    a.g += (V[q.j] * (p[q.j] - p[i])) * (gamma[i] * q.grad());
+  void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
+    a.g += (V[j] * (p[j] - p[i])) * c.gw[k];
   }
   void finish(std::size_t i, const Acc& a) {
     grad_p[i] = a.g;
@@ -274,6 +300,8 @@ public:
 
   const Settings& settings() const { return s_; }
   const Timers& timers() const { return timers_; }
+  // The pair coefficients of the last geometry() (ops::PairCoefficients).
+  const ops::PairCoefficients<D>& coefficients() const { return coef_; }
 
   // What the scheme carries across steps (for checkpoints): only its timers and counters; the
   // work arrays are recomputed from the particles at every step.
@@ -341,8 +369,8 @@ public:
         timers_.refresh += cpu_seconds() - ta;
       }
       // <grad u>, <div u>, <lap u> on the current iterate (eq. 13 check and input of eq. 8).
-      ops::VelocityDerivatives<D> da{p.V, gamma, p.v, eta2_, grad_u, div, lap_u};
-      interact(nl, da, not_ghost);
+      ops::VelocityDerivatives<D> da{p.V, coef_, p.v, grad_u, div, lap_u};
+      interact_indexed(nl, da, not_ghost);
       ++timers_.evaluations;
       for (std::size_t i = 0; i < N; ++i)
         if (kind[i] == Kind::Body)
@@ -360,14 +388,13 @@ public:
       for (std::size_t i = 0; i < N; ++i)
         if (kind[i] == Kind::Buffer)
           u_star[i] = p.v[i];
-      ops::Predict<D> pr{p.V, gamma, div, lap_u, u_n, kind, st.r_al, s_.nu, dt, g, u_star, a_s};
-      interact(nl, pr, fluid_or_body);
+      ops::Predict<D> pr{p.V, coef_, div, lap_u, u_n, kind, st.r_al, s_.nu, dt, g, u_star, a_s};
+      interact_indexed(nl, pr, fluid_or_body);
       ghosts.copy_vector(u_star);
 
       // eq. (10) on fluid, then eq. (20) on the body, buffers (case), ghosts.
-      ops::PressureUpdate<D> pu{p.V,     gamma,  u_star, p.p,   eta2_,
-                                st.r_al, s_.rho, dt,     p_new, div_star};
-      interact(nl, pu, is_fluid);
+      ops::PressureUpdate<D> pu{p.V, coef_, u_star, p.p, st.r_al, s_.rho, dt, p_new, div_star};
+      interact_indexed(nl, pu, is_fluid);
       for (std::size_t i = 0; i < N; ++i)
         if (kind[i] == Kind::Fluid)
           p.p[i] = p_new[i];
@@ -377,8 +404,8 @@ public:
       ghosts.copy_scalar(p.p);
 
       // eq. (11), eq. (12).
-      ops::Correct<D> co{p.V, gamma, p.p, u_star, dt / s_.rho, grad_p, p.v};
-      interact(nl, co, is_fluid);
+      ops::Correct<D> co{p.V, coef_, p.p, u_star, dt / s_.rho, grad_p, p.v};
+      interact_indexed(nl, co, is_fluid);
       ghosts.copy_vector(p.v);
       for (std::size_t i = 0; i < N; ++i)
         if (kind[i] == Kind::Fluid || kind[i] == Kind::Buffer)
@@ -439,6 +466,7 @@ public:
       ghosts->copy_scalar(p.V);
     CorrectionMatrix<D> cm{p.V, gamma, trace_b};
     interact(nl, cm);
+    coef_.compute(nl, p.V, gamma, eta2_);
   }
 
 private:
@@ -446,6 +474,7 @@ private:
   Settings s_;
   double eta2_ = 0.0;
   Timers timers_;
+  ops::PairCoefficients<D> coef_; // of the current pair geometry (geometry())
 
   void resize(std::size_t N) {
     for (auto* a : {&r_n, &u_n, &r_prev, &u_star, &lap_u, &a_s, &grad_p, &dr})
