@@ -258,11 +258,11 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
   if (r && (r->status == "done" || r->status == "diverged")) {
     f.metrics = r->metrics;
     f.message = r->message;
-    f.state = r->status;
-    if (f.state == "done")
+    f.state = r->status == "done" ? JobState::done : JobState::diverged;
+    if (f.state == JobState::done)
       for (const auto& [name, value] : f.metrics)
         if (!std::isfinite(value)) {
-          f.state = "diverged";
+          f.state = JobState::diverged;
           f.message = "metric '" + name + "' is " + (std::isnan(value) ? "NaN" : "infinite") +
                       (f.message.empty() ? "" : "; " + f.message);
           break;
@@ -270,30 +270,30 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
     return f;
   }
   if (c.timed_out) {
-    f.state = "timeout";
+    f.state = JobState::timeout;
     f.failure_class = "timeout";
     f.error_text = with_tail("exceeded the wall-clock limit of " +
                              short_number(timeout_s.value_or(0)) + " s (--timeout)");
   } else if (r && r->status == "failed") {
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "exception";
     f.message = r->message;
     f.error_text = with_tail("exception: " + r->message);
   } else if (r) { // cancelled without being asked
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "exception";
     f.message = r->message;
     f.error_text = with_tail("the case returned Cancelled without a cancellation request");
   } else if (!c.spawn_error.empty()) {
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "spawn";
     f.error_text = c.spawn_error;
   } else if (!c.exited) {
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "signal";
     f.error_text = with_tail("job process killed by " + signal_description(c.term_signal));
   } else {
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "exit";
     f.error_text = with_tail(
         "job process exited with code " + std::to_string(c.exit_code) +
@@ -302,13 +302,29 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
   return f;
 }
 
+SweepStart start_sweep(Store& store, const Study& study, const Expansion& ex,
+                       const SweepStartOptions& o, std::ostream& out) {
+  SweepStart r;
+  r.recovered = store.reset_stale(host_name(), static_cast<int>(getpid()), unix_now(),
+                                  o.stale_after_s, owner_alive);
+  r.integrity = r.recovered.empty() ? "ok" : store.quick_check();
+  if (store.count_in_state(JobState::submitted) > 0)
+    r.ingested = ingest_slurm(store, out);
+  r.sync = store.register_expansion(study, ex, o.retry_failed, o.max_attempts, o.rerun_stale,
+                                    solver_fingerprint());
+  for (const auto& row : r.sync.jobs)
+    if (row.state == JobState::pending)
+      r.todo.push_back(&row);
+  return r;
+}
+
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err) {
   Expansion ex = expand(study, opts.tier, opts.max_jobs);
   const std::string tier = ex.tier;
   const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
 
   if (opts.dry_run) {
-    std::map<std::string, std::string> states;
+    std::map<std::string, JobState> states;
     if (fs::exists(opts.db_path)) {
       Store ro = Store::open_read(opts.db_path);
       std::vector<std::string> keys;
@@ -330,7 +346,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     for (const auto& j : ex.jobs) {
       auto it = states.find(j.key);
       char st[16];
-      std::snprintf(st, sizeof st, "%-8s", it == states.end() ? "new" : it->second.c_str());
+      std::snprintf(st, sizeof st, "%-8s", it == states.end() ? "new" : to_string(it->second));
       lines += st;
       lines += ' ';
       lines += label_of(j, ex.varying);
@@ -356,50 +372,43 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   auto db_error = [&](const std::exception& e) {
     return std::runtime_error("database '" + db_name + "': " + e.what());
   };
-  SyncReport sync;
-  std::size_t stale_kept = 0, stale_requeued = 0;
+  SweepStart front;
   try {
-    auto stale = store.reset_stale(host, pid, unix_now(), opts.stale_after_s, owner_alive);
-    if (!stale.empty()) {
-      out << "recovered " << stale.size() << " job(s) left running by a dead runner:";
-      for (std::size_t i = 0; i < stale.size() && i < 5; ++i)
-        out << "\n  " << stale[i].key.substr(0, 12) << " " << stale[i].reason;
-      out << "\n";
-      Stmt q = store.db().prepare("PRAGMA quick_check");
-      if (q.step() && q.text(0) != "ok")
-        err << "warning: database integrity check after an unclean shutdown: " << q.text(0) << "\n";
-    }
-
-    if (store.db().scalar_int("SELECT count(*) FROM jobs WHERE state='submitted'") > 0) {
-      IngestReport ing = ingest_slurm(store, out);
-      if (ing.ingested || ing.lost || ing.waiting)
-        out << "Slurm: ingested " << ing.ingested << " finished job(s), " << ing.lost
-            << " lost (pending again), " << ing.waiting << " still submitted\n";
-    }
-
-    sync = store.register_expansion(study, ex, opts.retry_failed, opts.max_attempts,
-                                    opts.rerun_stale, fingerprint);
-    stale_requeued = sync.stale_requeued;
-    stale_kept = sync.stale_kept;
+    front = start_sweep(
+        store, study, ex,
+        {opts.retry_failed, opts.max_attempts, opts.rerun_stale, opts.stale_after_s}, out);
     store.checkpoint_wal(false);
   } catch (const SqliteError& e) {
     throw db_error(e);
   }
-
-  std::map<std::string, std::size_t> counts;
-  std::vector<const JobRow*> todo;
-  for (const auto& row : sync.jobs) {
-    ++counts[row.state];
-    if (row.state == "pending")
-      todo.push_back(&row);
+  const auto& stale = front.recovered;
+  if (!stale.empty()) {
+    out << "recovered " << stale.size() << " job(s) left running by a dead runner:";
+    for (std::size_t i = 0; i < stale.size() && i < 5; ++i)
+      out << "\n  " << stale[i].key.substr(0, 12) << " " << stale[i].reason;
+    out << "\n";
+    if (front.integrity != "ok")
+      err << "warning: database integrity check after an unclean shutdown: " << front.integrity
+          << "\n";
   }
-  auto count = [&](const char* s) { return counts.count(s) ? counts[s] : std::size_t(0); };
-  std::size_t failing = count("failed") + count("timeout") + count("diverged");
-  out << title << ": " << ex.jobs.size() << " jobs: " << count("done") << " done already, ";
+  if (const auto& ing = front.ingested; ing && (ing->ingested || ing->lost || ing->waiting))
+    out << "Slurm: ingested " << ing->ingested << " finished job(s), " << ing->lost
+        << " lost (pending again), " << ing->waiting << " still submitted\n";
+  const SyncReport& sync = front.sync;
+  const std::vector<const JobRow*>& todo = front.todo;
+  const std::size_t stale_requeued = sync.stale_requeued, stale_kept = sync.stale_kept;
+
+  std::map<JobState, std::size_t> counts;
+  for (const auto& row : sync.jobs)
+    ++counts[row.state];
+  auto count = [&](JobState s) { return counts.count(s) ? counts[s] : std::size_t(0); };
+  std::size_t failing =
+      count(JobState::failed) + count(JobState::timeout) + count(JobState::diverged);
+  out << title << ": " << ex.jobs.size() << " jobs: " << count(JobState::done) << " done already, ";
   if (failing && !opts.retry_failed)
     out << failing << " failed/diverged/timed out (not retried; use --retry-failed), ";
-  if (count("running"))
-    out << count("running") << " running elsewhere, ";
+  if (count(JobState::running))
+    out << count(JobState::running) << " running elsewhere, ";
   out << todo.size() << " to run";
   if (sync.inserted)
     out << " (" << sync.inserted << " new)";
@@ -487,16 +496,9 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     progress.set_width(terminal_columns());
     progress.set_log_every_s(opts.log_every_s);
     try {
-      {
-        // Mean wall time of this study's earlier finished attempts: the ETA before a job finishes.
-        Stmt q = store.db().prepare(
-            "SELECT avg(a.wall_s) FROM attempts a WHERE a.state IN ('done','diverged') AND "
-            "a.wall_s IS NOT NULL AND a.job_id IN (SELECT job_id FROM study_jobs WHERE "
-            "study_id=? AND tier=?)");
-        q.bind(1, sync.study_id).bind(2, tier);
-        if (q.step() && !q.is_null(0))
-          progress.set_prior_job_s(q.real(0));
-      }
+      // Mean wall time of this study's earlier finished attempts: the ETA before a job finishes.
+      if (auto prior = store.mean_wall_s(sync.study_id, tier))
+        progress.set_prior_job_s(*prior);
       AttemptStart start{host,          pid, opts.threads_per_job, code_version(),
                          compiler_id(), 0,   fingerprint};
       std::size_t next = 0;
@@ -553,7 +555,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           } catch (const std::exception& e) {
             release_folder_lock(t);
             Finish f;
-            f.state = "failed";
+            f.state = JobState::failed;
             f.failure_class = "spawn";
             f.finished_at = unix_now();
             f.error_text = std::string("cannot prepare the job: ") + e.what();
@@ -598,7 +600,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
               f.output_dir = o.task.output_dir.string();
             else
               fs::remove(o.task.output_dir, ec);
-            if (f.state != "done" && f.state != "diverged") {
+            if (!holds_result(f.state)) {
               // Keep the full output of a failed attempt next to its outputs.
               fs::create_directories(o.task.output_dir, ec);
               fs::path kept =
@@ -616,14 +618,14 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             std::string detail = short_number(o.child.wall_s) + " s";
             if (!first_metric.empty())
               detail += "  " + first_metric;
-            if (f.state == "diverged" && !f.message.empty())
+            if (f.state == JobState::diverged && !f.message.empty())
               detail += "  " + f.message;
-            if (f.state != "done" && f.state != "diverged") {
+            if (!holds_result(f.state)) {
               std::string first_line = f.error_text.substr(0, f.error_text.find('\n'));
               detail += "  " + first_line;
               failures.push_back(label + ": " + first_line);
             }
-            progress.finished(f.state, label, detail, o.child.wall_s);
+            progress.finished(to_string(f.state), label, detail, o.child.wall_s);
           }
           release_folder_lock(o.task);
           running.erase(o.task.job_id);
@@ -684,7 +686,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   }
 
   // Summary from the store: the state of every job of the study (tier).
-  std::map<std::string, std::size_t> final_counts;
+  std::map<JobState, std::size_t> final_counts;
   try {
     final_counts = store.state_counts(sync.study_id, tier);
     store.checkpoint_wal(true);
@@ -695,7 +697,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   out << title << ": " << ex.jobs.size() << " jobs:";
   bool first = true;
-  for (const char* s : {"done", "diverged", "failed", "timeout", "running", "pending"})
+  for (JobState s : {JobState::done, JobState::diverged, JobState::failed, JobState::timeout,
+                     JobState::running, JobState::pending})
     if (final_counts.count(s)) {
       out << (first ? " " : ", ") << final_counts[s] << " " << s;
       first = false;
@@ -715,7 +718,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   }
   if (lost || busy)
     return 1;
-  bool any_failed = final_counts.count("failed") || final_counts.count("timeout");
+  bool any_failed = final_counts.count(JobState::failed) || final_counts.count(JobState::timeout);
   return any_failed ? 1 : 0;
 }
 

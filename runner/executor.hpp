@@ -4,6 +4,8 @@
 #pragma once
 
 #include "expand.hpp"
+#include "slurm.hpp"
+#include "store.hpp"
 #include "study.hpp"
 
 #include <filesystem>
@@ -41,6 +43,27 @@ struct RunOptions {
 
 struct Finish;
 struct ChildOutcome;
+class Store;
+
+// The front half `run` and `submit` share: expand -> register -> to-do. Jobs left running by
+// dead runners go back to pending, finished Slurm results are ingested (when jobs are submitted),
+// the study's expansion is registered (sync_study: new jobs pending, --retry-failed,
+// --rerun-stale) and its pending jobs, in expansion order, are the to-do list.
+struct SweepStart {
+  std::vector<StaleJob> recovered; // running jobs whose owner was gone, now pending
+  std::string integrity;           // PRAGMA quick_check after such a recovery ("ok": fine)
+  std::optional<IngestReport> ingested;
+  SyncReport sync;
+  std::vector<const JobRow*> todo; // the pending jobs, pointers into sync.jobs
+};
+struct SweepStartOptions {
+  bool retry_failed = false;
+  int max_attempts = 3;
+  bool rerun_stale = false;
+  double stale_after_s = 30;
+};
+SweepStart start_sweep(Store& store, const Study& study, const Expansion& ex,
+                       const SweepStartOptions& o, std::ostream& out);
 
 // The record of an attempt from how its job process ended, its result file (may be missing) and
 // its log (tail kept in the error text). Shared by the local pool and Slurm ingestion.
