@@ -386,7 +386,7 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
   Store store = Store::open_read(db_path);
   std::int64_t sid = study_id(store, study);
   struct Row {
-    std::string key, state, scheme;
+    std::string key, state, scheme, tier, output_dir;
     nlohmann::json params;
     std::map<std::string, std::optional<double>> metrics;
     bool stale = false; // made by other solver code than this build's
@@ -395,8 +395,17 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
   std::map<std::int64_t, std::size_t> index;
   for (const StudyJob& j : store.study_jobs(sid, std::nullopt, true, solver_fingerprint())) {
     index[j.id] = rows.size();
-    rows.push_back(
-        {j.key, to_string(j.state), j.scheme, nlohmann::json::parse(j.params_json), {}, j.stale});
+    std::string tiers;
+    for (const auto& t : j.tiers)
+      tiers += (tiers.empty() ? "" : ";") + t;
+    rows.push_back({j.key,
+                    to_string(j.state),
+                    j.scheme,
+                    tiers,
+                    j.output_dir,
+                    nlohmann::json::parse(j.params_json),
+                    {},
+                    j.stale});
   }
   std::vector<std::string> metric_names;
   for (const MetricValue& m : store.study_metrics(sid)) {
@@ -413,12 +422,15 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
       nlohmann::json metrics = nlohmann::json::object();
       for (const auto& [k, v] : r.metrics)
         metrics[k] = v ? nlohmann::json(*v) : nlohmann::json();
-      arr.push_back({{"job", r.key},
-                     {"status", r.state},
-                     {"scheme", r.scheme},
-                     {"params", r.params},
-                     {"metrics", metrics},
-                     {"stale", r.stale}});
+      arr.push_back(
+          {{"job", r.key},
+           {"status", r.state},
+           {"scheme", r.scheme},
+           {"tier", r.tier},
+           {"output_dir", r.output_dir.empty() ? nlohmann::json() : nlohmann::json(r.output_dir)},
+           {"params", r.params},
+           {"metrics", metrics},
+           {"stale", r.stale}});
     }
     out << arr.dump(1) << "\n";
     return 0;
@@ -428,14 +440,21 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
     for (const auto& [k, v] : r.params.items())
       if (std::find(param_names.begin(), param_names.end(), k) == param_names.end())
         param_names.push_back(k);
-  out << "job,status,scheme";
+  // A name that is both a parameter and a metric (t_end), or that of a fixed column, is given as
+  // param.NAME / metric.NAME; every other column keeps its plain name (docs/runner.md).
+  static const std::set<std::string> fixed = {"job",  "status",     "scheme",
+                                              "tier", "output_dir", "stale"};
+  const std::set<std::string> params_set(param_names.begin(), param_names.end());
+  const std::set<std::string> metrics_set(metric_names.begin(), metric_names.end());
+  out << "job,status,scheme,tier,output_dir";
   for (const auto& p : param_names)
-    out << "," << csv_field(p);
+    out << "," << csv_field(metrics_set.count(p) || fixed.count(p) ? "param." + p : p);
   for (const auto& n : metric_names)
-    out << "," << csv_field(n);
+    out << "," << csv_field(params_set.count(n) || fixed.count(n) ? "metric." + n : n);
   out << ",stale\n"; // the last column: 1 when made by other solver code than this build's
   for (const auto& r : rows) {
-    out << r.key << "," << r.state << "," << csv_field(r.scheme);
+    out << r.key << "," << r.state << "," << csv_field(r.scheme) << "," << csv_field(r.tier) << ","
+        << csv_field(r.output_dir);
     for (const auto& p : param_names) {
       out << ",";
       if (!r.params.contains(p))

@@ -4,6 +4,7 @@
 
 #include "expand.hpp"
 #include "job_file.hpp"
+#include "overrides.hpp"
 #include "params.hpp"
 #include "process.hpp"
 #include "progress.hpp"
@@ -71,7 +72,20 @@ struct Task {
   int attempt = 0;
   fs::path spec, result, log, progress, output_dir;
   int lock_fd = -1; // flock on <output_dir>/.attempt.lock while the attempt runs
+  JobRecord record; // params.json of the job's folder
 };
+
+// Rewrites params.json at the end of an attempt; a failure to write it is a warning (the
+// database holds the same facts), not a reason to lose the result.
+void finish_record(Task& t, const std::string& state, double finished_at, std::ostream& err) {
+  t.record.state = state;
+  t.record.finished_at = finished_at;
+  try {
+    write_job_record(t.output_dir, t.record);
+  } catch (const std::exception& e) {
+    err << "warning: " << e.what() << "\n";
+  }
+}
 
 const char* const folder_lock_name = ".attempt.lock";
 
@@ -318,8 +332,35 @@ SweepStart start_sweep(Store& store, const Study& study, const Expansion& ex,
   return r;
 }
 
+SelectedExpansion expand_selected(const Study& study_file, const RunOptions& opts) {
+  std::vector<Assignment> sets, where;
+  for (const auto& kv : opts.set)
+    sets.push_back(parse_assignment(study_file.specs, kv, "--set"));
+  for (const auto& kv : opts.where)
+    where.push_back(parse_assignment(study_file.specs, kv, "--where"));
+  Study study = study_file;
+  apply_overrides(study, sets);
+  SelectedExpansion r{expand(study, opts.tier, opts.max_jobs), {}};
+  if (!sets.empty())
+    r.ex.tier += "+" + overrides_label(sets);
+  if (where.empty())
+    for (std::size_t i = 0; i < r.ex.jobs.size(); ++i)
+      r.selected.push_back(i);
+  else
+    r.selected = matching_jobs(r.ex, where);
+  return r;
+}
+
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err) {
-  Expansion ex = expand(study, opts.tier, opts.max_jobs);
+  SelectedExpansion sel = expand_selected(study, opts);
+  const Expansion& ex = sel.ex;
+  const bool filtered = sel.selected.size() != ex.jobs.size();
+  std::vector<bool> is_selected(ex.jobs.size(), false);
+  for (std::size_t i : sel.selected)
+    is_selected[i] = true;
+  std::string where_text;
+  for (const auto& w : opts.where)
+    where_text += " --where " + w;
   const std::string tier = ex.tier;
   const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
 
@@ -334,6 +375,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     }
     out << title << ": " << ex.jobs.size() << " jobs (" << ex.combinations << " combinations, "
         << ex.excluded << " excluded, " << ex.duplicates << " duplicates collapsed)\n";
+    if (filtered)
+      out << sel.selected.size() << " of them match" << where_text << " (listed below)\n";
     if (!ex.jobs.empty()) {
       std::string fixed;
       const auto& first = ex.jobs.front();
@@ -343,7 +386,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       out << "fixed:" << fixed << "\n";
     }
     std::string lines;
-    for (const auto& j : ex.jobs) {
+    for (std::size_t i : sel.selected) {
+      const JobSpec& j = ex.jobs[i];
       auto it = states.find(j.key);
       char st[16];
       std::snprintf(st, sizeof st, "%-8s", it == states.end() ? "new" : to_string(it->second));
@@ -395,7 +439,10 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     out << "Slurm: ingested " << ing->ingested << " finished job(s), " << ing->lost
         << " lost (pending again), " << ing->waiting << " still submitted\n";
   const SyncReport& sync = front.sync;
-  const std::vector<const JobRow*>& todo = front.todo;
+  std::vector<const JobRow*> todo;
+  for (const JobRow* row : front.todo)
+    if (is_selected[row->ordinal])
+      todo.push_back(row);
   const std::size_t stale_requeued = sync.stale_requeued, stale_kept = sync.stale_kept;
 
   std::map<JobState, std::size_t> counts;
@@ -412,6 +459,9 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   out << todo.size() << " to run";
   if (sync.inserted)
     out << " (" << sync.inserted << " new)";
+  if (filtered)
+    out << "; only the " << sel.selected.size() << " job(s) matching" << where_text
+        << " run, the others stay as they are";
   out << "\n";
   if (stale_kept)
     out << "note: " << stale_kept << " finished job(s) are stale: made by other solver code "
@@ -548,6 +598,9 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
                   << "by another attempt" << holder << "; left pending\n";
               continue;
             }
+            t.record = {job.key,      study.name,      tier,     job.case_name, job.scheme,
+                        job.params,   job.params_json, *attempt, host,          start.started_at,
+                        std::nullopt, "running"};
             write_file_atomic(t.spec, spec_to_json(spec));
           } catch (const SqliteError&) {
             release_folder_lock(t);
@@ -585,6 +638,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             }
           }
           if (cancelled_result) {
+            if (!is_empty_dir(o.task.output_dir)) // e.g. the checkpoint it resumes from
+              finish_record(o.task, "interrupted", unix_now(), err);
             store.release(o.task.job_id, o.task.attempt, host, pid,
                           "interrupted: the runner received " + signal_description(g_signal.load()),
                           unix_now());
@@ -595,19 +650,22 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             if (!f.metrics.empty())
               first_metric = f.metrics.front().first + "=" + short_number(f.metrics.front().second);
             unlink_folder_lock(o.task);
-            bool kept_output = !is_empty_dir(o.task.output_dir);
-            if (kept_output)
-              f.output_dir = o.task.output_dir.string();
-            else
-              fs::remove(o.task.output_dir, ec);
-            if (!holds_result(f.state)) {
-              // Keep the full output of a failed attempt next to its outputs.
-              fs::create_directories(o.task.output_dir, ec);
+            if (!holds_result(f.state) || opts.keep_logs) {
+              // Keep the full output of a failed attempt (of every one with --keep-logs) next
+              // to its outputs.
               fs::path kept =
                   o.task.output_dir / ("attempt-" + std::to_string(o.task.attempt) + ".log");
               fs::rename(o.task.log, kept, ec);
-              if (!ec)
+              if (!ec && !holds_result(f.state))
                 f.error_text += "\n(full output: " + kept.string() + ")";
+            }
+            // A folder with something in it (outputs, a checkpoint, a log) describes itself in
+            // params.json and is recorded; an empty one is removed (patch_test writes nothing).
+            if (!is_empty_dir(o.task.output_dir)) {
+              finish_record(o.task, to_string(f.state), f.finished_at, err);
+              f.output_dir = o.task.output_dir.string();
+            } else {
+              fs::remove(o.task.output_dir, ec);
             }
             if (!store.finish(o.task.job_id, o.task.attempt, host, pid, f)) {
               ++lost;

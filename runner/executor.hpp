@@ -12,6 +12,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace sph::runner {
 
@@ -39,6 +40,12 @@ struct RunOptions {
   bool rerun_stale = false;
   // Refuse a study (tier) that expands to more jobs than this, before expanding it.
   std::size_t max_jobs = default_max_jobs;
+  // --set KEY=VALUE: overrides for every job (registered under the tier "<tier>+KEY=VALUE,...");
+  // --where KEY=VALUE: run only the jobs with these values (the whole study is registered).
+  std::vector<std::string> set, where;
+  // Keep every attempt's job output as <output_dir>/attempt-N.log (`runner one`); otherwise only
+  // failed attempts keep theirs.
+  bool keep_logs = false;
 };
 
 struct Finish;
@@ -74,5 +81,14 @@ Finish outcome_to_finish(const ChildOutcome& c, const std::filesystem::path& res
 // 1 otherwise, 128+signal when interrupted. Study errors are thrown as StudyError before anything
 // is written.
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err);
+
+// The expansion run_study runs: --set applied, the tier named after the overrides, and the
+// indexes of the jobs --where selects (all of them without --where). Bad --set/--where input is a
+// StudyError naming the key and what it expects.
+struct SelectedExpansion {
+  Expansion ex;
+  std::vector<std::size_t> selected;
+};
+SelectedExpansion expand_selected(const Study& study, const RunOptions& opts);
 
 } // namespace sph::runner

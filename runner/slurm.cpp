@@ -381,17 +381,18 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
     std::string array_id;
     fs::path dir;
     std::optional<double> timeout;
-    std::string study;
+    std::string study, tier;
   };
   std::vector<Sub> subs;
   for (const Submission& s : store.open_submissions())
-    subs.push_back({s.id, s.array_id, s.dir, std::nullopt, ""});
+    subs.push_back({s.id, s.array_id, s.dir, std::nullopt, "", ""});
   for (auto& sub : subs) {
     try {
       json m = json::parse(read_all(sub.dir / "manifest.json"));
       if (!m.at("timeout_s").is_null())
         sub.timeout = m.at("timeout_s").get<double>();
       sub.study = m.value("study", "");
+      sub.tier = m.value("tier", "");
     } catch (...) {
     }
     // Is the array still queued or running? Asked before reading outcomes, so that a job whose
@@ -457,8 +458,24 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
           fs::path d = fs::absolute(db_dir) / study_name / j.key;
           // A finished job's outputs join the database's side; a failed one's stay in the
           // shared directory, where its checkpoint awaits the resubmission.
-          if ((f.state == JobState::done || f.state == JobState::diverged) && !src.empty())
+          if (holds_result(f.state) && !src.empty())
             move_outputs(src, d);
+          // params.json, as a local run writes it (the start time from the job's wall time),
+          // in a folder that holds outputs.
+          try {
+            if (!fs::is_directory(d, ec) || fs::is_empty(d, ec))
+              throw std::runtime_error("no outputs");
+            JobFileSpec spec = read_spec_file(sub.dir / "specs" / (stem + ".spec.json"));
+            JobRecord rec{j.key,         study_name,
+                          sub.tier,      spec.case_name,
+                          spec.scheme,   spec.params,
+                          j.params_json, j.attempt,
+                          host,          f.finished_at - f.wall_s.value_or(0),
+                          f.finished_at, to_string(f.state)};
+            write_job_record(d, rec);
+          } catch (const std::exception&) {
+            // no outputs, or the spec is gone: the database describes the job
+          }
           if (fs::is_directory(d, ec) && !fs::is_empty(d, ec))
             f.output_dir = d.string();
           else

@@ -341,10 +341,12 @@ SyncReport Store::register_expansion(const Study& study, const Expansion& ex, bo
                                      int max_attempts, bool rerun_stale,
                                      const std::string& fingerprint) {
   StudyRecord rec{study.name, study.case_name, study.description,
-                  fs::absolute(study.file).lexically_normal().string(), study.definition_sha256};
-  SyncReport sync =
-      sync_study(rec, ex.tier, ex.jobs, retry_failed, max_attempts, unix_now(),
-                 rerun_stale ? std::optional<std::string>(fingerprint) : std::nullopt);
+                  study.file.empty() ? std::string()
+                                     : fs::absolute(study.file).lexically_normal().string(),
+                  study.definition_sha256};
+  SyncReport sync = sync_study(rec, ex.tier, ex.jobs, retry_failed, max_attempts, unix_now(),
+                               rerun_stale ? std::optional<std::string>(fingerprint) : std::nullopt,
+                               study.accumulate);
   if (!rerun_stale)
     sync.stale_kept = stale_count(sync.study_id, ex.tier, fingerprint);
   return sync;
@@ -367,7 +369,8 @@ void Store::checkpoint_wal(bool truncate) {
 
 SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
                              const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
-                             double now, const std::optional<std::string>& rerun_stale_of) {
+                             double now, const std::optional<std::string>& rerun_stale_of,
+                             bool accumulate) {
   SyncReport r;
   WriteTx tx(db_);
   {
@@ -396,8 +399,10 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
     while (q.step())
       before.insert(q.integer(0));
     // Jobs of an earlier version of the study stay members (current=0): still queryable.
-    Stmt d = db_.prepare("UPDATE study_jobs SET current=0 WHERE study_id=? AND tier=?");
-    d.bind(1, r.study_id).bind(2, tier).run();
+    if (!accumulate) {
+      Stmt d = db_.prepare("UPDATE study_jobs SET current=0 WHERE study_id=? AND tier=?");
+      d.bind(1, r.study_id).bind(2, tier).run();
+    }
   }
   Stmt ins = db_.prepare(
       "INSERT INTO jobs(key, case_name, scheme, numerics_version, params_json, state, attempts, "
@@ -413,6 +418,14 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
   Stmt params = db_.prepare("INSERT OR IGNORE INTO job_params(job_id, name, value) SELECT ?1, "
                             "p.key, p.value FROM json_each(?2) p");
   std::size_t kept = 0;
+  std::int64_t first_ordinal = 0; // accumulate: the jobs go after the study's others
+  if (accumulate) {
+    Stmt m = db_.prepare(
+        "SELECT coalesce(max(ordinal) + 1, 0) FROM study_jobs WHERE study_id=? AND tier=?");
+    m.bind(1, r.study_id).bind(2, tier);
+    m.step();
+    first_ordinal = m.integer(0);
+  }
   for (std::size_t i = 0; i < jobs.size(); ++i) {
     const JobSpec& j = jobs[i];
     ins.bind(1, j.key).bind(2, j.case_name).bind(3, j.scheme).bind(4, numerics_version);
@@ -433,10 +446,11 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
     }
     if (before.count(id))
       ++kept;
-    member.bind(1, r.study_id).bind(2, id).bind(3, tier).bind(4, static_cast<std::int64_t>(i));
+    member.bind(1, r.study_id).bind(2, id).bind(3, tier);
+    member.bind(4, first_ordinal + static_cast<std::int64_t>(i));
     member.run();
   }
-  r.removed = before.size() - kept;
+  r.removed = accumulate ? 0 : before.size() - kept;
   if (bulk)
     db_.exec("CREATE INDEX IF NOT EXISTS job_params_lookup ON job_params(name, value, job_id)");
 
@@ -468,7 +482,16 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
                     "jobs j ON j.id = sj.job_id WHERE sj.study_id=? AND sj.tier=? AND sj.current "
                     "ORDER BY sj.ordinal");
     q.bind(1, r.study_id).bind(2, tier);
-    while (q.step())
+    Stmt one = db_.prepare("SELECT j.id, j.state, j.attempts FROM jobs j WHERE j.key=?");
+    for (std::size_t i = 0; accumulate && i < jobs.size(); ++i) {
+      // Only the given jobs (at their index in `jobs`), not every member.
+      one.bind(1, jobs[i].key);
+      if (one.step())
+        r.jobs.push_back(
+            {one.integer(0), i, job_state_from(one.text(1)), static_cast<int>(one.integer(2))});
+      one.reset();
+    }
+    while (!accumulate && q.step())
       r.jobs.push_back({q.integer(0), static_cast<std::size_t>(q.integer(1)),
                         job_state_from(q.text(2)), static_cast<int>(q.integer(3))});
   }
@@ -665,6 +688,23 @@ Stmt Store::end_attempt(const std::string& cond) {
   return db_.prepare(
       "UPDATE attempts SET state=?1, failure_class=?2, finished_at=?3, error_text=?4 WHERE " +
       cond);
+}
+
+std::optional<Store::JobSummary> Store::job_summary(const std::string& key) {
+  Stmt q = db_.prepare("SELECT id, state, attempts, output_dir FROM jobs WHERE key=?");
+  q.bind(1, key);
+  if (!q.step())
+    return std::nullopt;
+  JobSummary j;
+  j.id = q.integer(0);
+  j.state = job_state_from(q.text(1));
+  j.attempts = static_cast<int>(q.integer(2));
+  j.output_dir = q.is_null(3) ? "" : q.text(3);
+  Stmt m = db_.prepare("SELECT name, value FROM metrics WHERE job_id=? ORDER BY ordinal");
+  m.bind(1, j.id);
+  while (m.step())
+    j.metrics.emplace_back(m.text(0), m.opt_real(1));
+  return j;
 }
 
 std::size_t Store::count_in_state(JobState s) {
@@ -1191,12 +1231,13 @@ std::vector<Submission> Store::open_submissions() {
 
 std::vector<SubmittedJob> Store::submitted_jobs_of_array(const std::string& array_id) {
   std::vector<SubmittedJob> js;
-  Stmt jobs =
-      db_.prepare("SELECT id, key, attempts, slurm_job_id FROM jobs WHERE state='submitted' "
-                  "AND slurm_job_id LIKE ? || '\\_%' ESCAPE '\\'");
+  Stmt jobs = db_.prepare("SELECT id, key, attempts, slurm_job_id, params_json FROM jobs WHERE "
+                          "state='submitted' "
+                          "AND slurm_job_id LIKE ? || '\\_%' ESCAPE '\\'");
   jobs.bind(1, array_id);
   while (jobs.step())
-    js.push_back({jobs.integer(0), jobs.text(1), jobs.text(3), static_cast<int>(jobs.integer(2))});
+    js.push_back({jobs.integer(0), jobs.text(1), jobs.text(3), static_cast<int>(jobs.integer(2)),
+                  jobs.text(4)});
   return js;
 }
 

@@ -196,6 +196,7 @@ struct SubmittedJob {
   std::int64_t id = 0;
   std::string key, slurm_job_id;
   int attempt = 0;
+  std::string params_json;
 };
 
 struct Submission {
@@ -224,10 +225,13 @@ public:
   // retry_failed puts failed/diverged/timeout jobs with fewer than max_attempts failing attempts
   // back to pending.
   // With rerun_stale_of (this build's solver fingerprint), done and diverged jobs whose result
-  // was made by other solver code go back to pending too.
+  // was made by other solver code go back to pending too. With accumulate, jobs registered
+  // earlier stay current members (nothing is "no longer in the study"), and r.jobs lists only
+  // the given jobs.
   SyncReport sync_study(const StudyRecord& study, const std::string& tier,
                         const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
-                        double now, const std::optional<std::string>& rerun_stale_of = {});
+                        double now, const std::optional<std::string>& rerun_stale_of = {},
+                        bool accumulate = false);
 
   // The front half shared by `run` and `submit`: registers an expanded study (sync_study with the
   // study's record) and counts the stale jobs it keeps; fingerprint is this build's solver
@@ -277,6 +281,16 @@ public:
 
   // State of each key (absent keys are not in the map); for --dry-run.
   std::map<std::string, JobState> states_of(const std::vector<std::string>& keys);
+
+  // One job by key: state, attempts, output folder and metrics (in recording order).
+  struct JobSummary {
+    std::int64_t id = 0;
+    JobState state = JobState::pending;
+    int attempts = 0;
+    std::string output_dir;
+    std::vector<std::pair<std::string, std::optional<double>>> metrics;
+  };
+  std::optional<JobSummary> job_summary(const std::string& key);
 
   // Jobs in a state, all studies.
   std::size_t count_in_state(JobState s);
