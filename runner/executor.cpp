@@ -2,6 +2,8 @@
 // heartbeats) and a pool of worker threads that each supervise one job process at a time.
 #include "executor.hpp"
 
+#include "cost.hpp"
+#include "diagnostics.hpp"
 #include "expand.hpp"
 #include "job_file.hpp"
 #include "overrides.hpp"
@@ -364,15 +366,63 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   const std::string tier = ex.tier;
   const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
 
-  if (opts.dry_run) {
-    std::map<std::string, JobState> states;
-    if (fs::exists(opts.db_path)) {
-      Store ro = Store::open_read(opts.db_path);
-      std::vector<std::string> keys;
-      for (const auto& j : ex.jobs)
-        keys.push_back(j.key);
-      states = ro.states_of(keys);
+  // The cost of what this run would run (new and pending jobs; failed ones with --retry-failed),
+  // calibrated from the database's finished jobs: printed, and above an hour of wall time on this
+  // machine the run needs --yes. In a real run a database the estimate cannot read is left to the
+  // writer's checks below (its messages), the estimate then goes without calibration.
+  std::map<std::string, JobState> states;
+  std::map<std::string, std::vector<CostSample>> samples;
+  {
+    std::vector<std::pair<std::string, std::string>> kinds;
+    for (std::size_t i : sel.selected) {
+      std::pair<std::string, std::string> k{ex.jobs[i].case_name, ex.jobs[i].scheme};
+      if (std::find(kinds.begin(), kinds.end(), k) == kinds.end())
+        kinds.push_back(k);
     }
+    std::error_code ec;
+    if (fs::exists(opts.db_path, ec)) {
+      try {
+        Store ro = Store::open_read(opts.db_path);
+        std::vector<std::string> keys;
+        for (const auto& j : ex.jobs)
+          keys.push_back(j.key);
+        states = ro.states_of(keys);
+        samples = ro.cost_samples(kinds);
+      } catch (const std::exception&) {
+        if (opts.dry_run)
+          throw;
+      }
+    }
+  }
+  std::vector<const JobSpec*> to_run;
+  for (std::size_t i : sel.selected) {
+    auto it = states.find(ex.jobs[i].key);
+    const bool failing =
+        it != states.end() && (it->second == JobState::failed || it->second == JobState::diverged ||
+                               it->second == JobState::timeout);
+    if (it == states.end() || it->second == JobState::pending || (failing && opts.retry_failed))
+      to_run.push_back(&ex.jobs[i]);
+  }
+  const StudyEstimate cost = estimate_jobs(to_run, samples);
+  const std::size_t est_workers =
+      std::min<std::size_t>(opts.jobs > 0 ? static_cast<std::size_t>(opts.jobs)
+                                          : std::max(1u, std::thread::hardware_concurrency()),
+                            std::max<std::size_t>(to_run.size(), 1));
+  auto print_estimate = [&] {
+    if (cost.estimated == 0)
+      return;
+    out << "estimate: " << format_cost(cost.cpu_s) << " for " << cost.estimated << " of the "
+        << to_run.size() << " job(s) to run, about "
+        << format_cost(cost.wall_s(est_workers), "wall") << " on this machine with " << est_workers
+        << " at once";
+    if (cost.unknown)
+      out << " (" << cost.unknown << " job(s) without an estimate)";
+    out << "\n";
+    for (const auto& b : cost.basis)
+      out << "  " << b << "\n";
+  };
+
+  if (opts.dry_run) {
     out << title << ": " << ex.jobs.size() << " jobs (" << ex.combinations << " combinations, "
         << ex.excluded << " excluded, " << ex.duplicates << " duplicates collapsed)\n";
     if (filtered)
@@ -401,8 +451,23 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       }
     }
     out << lines;
+    print_estimate();
     return 0;
   }
+  if (cost.wall_s(est_workers) > 3600 && !opts.yes) {
+    print_estimate();
+    throw StudyError(
+        {{study.file, 0, 0,
+          "this run is estimated at " + format_cost(cost.wall_s(est_workers), "wall") + " (" +
+              format_cost(cost.cpu_s) + ") on this machine, more than an hour: nothing was run. " +
+              (study.file.empty()
+                   ? std::string("Run it with --yes")
+                   : "Run it with --yes, or a shorter tier (--tier " +
+                         (study.tier_names().empty() ? std::string("NAME")
+                                                     : study.tier_names().front()) +
+                         "), or on a cluster (runner submit " + study.file + " --slurm)")}});
+  }
+  print_estimate();
 
   // SIGINT, SIGTERM, SIGHUP (closed terminal) and SIGPIPE (`runner ... | head`) stop the run
   // cleanly from here on: no new claims, running jobs stopped and put back to pending.
@@ -550,7 +615,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       if (auto prior = store.mean_wall_s(sync.study_id, tier))
         progress.set_prior_job_s(*prior);
       AttemptStart start{host,          pid, opts.threads_per_job, code_version(),
-                         compiler_id(), 0,   fingerprint};
+                         compiler_id(), 0,   fingerprint,          std::nullopt};
       std::size_t next = 0;
       auto last_heartbeat = std::chrono::steady_clock::now();
       auto last_checkpoint = last_heartbeat;
@@ -559,6 +624,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         while (g_stop.load() == 0 && running.size() < n_workers && next < todo.size()) {
           const JobRow& row = *todo[next++];
           start.started_at = unix_now();
+          start.predicted_cpu_s = estimate_job(ex.jobs[row.ordinal], samples);
           auto attempt = store.claim(row.id, start);
           if (!attempt)
             continue; // another runner took it

@@ -46,6 +46,8 @@ struct RunOptions {
   // Keep every attempt's job output as <output_dir>/attempt-N.log (`runner one`); otherwise only
   // failed attempts keep theirs.
   bool keep_logs = false;
+  // Run even when the estimate exceeds an hour of wall time (otherwise refused, exit 2).
+  bool yes = false;
 };
 
 struct Finish;

@@ -135,6 +135,8 @@ int main(int argc, char** argv) {
   run->add_flag("-n,--dry-run", ro.dry_run, "List the jobs and their state; run and write nothing");
   run->add_flag("--allow-network-fs", ro.allow_network_fs,
                 "Accept a database on a network file system (rollback journal, one runner only)");
+  run->add_flag("-y,--yes", ro.yes,
+                "Run even when the cost estimate exceeds an hour of wall time on this machine");
   run->add_flag("--keep-logs", ro.keep_logs,
                 "Keep every attempt's output as <job folder>/attempt-N.log (default: failed only)");
   run->add_option("--set", ro.set,
@@ -160,6 +162,7 @@ int main(int argc, char** argv) {
   one->add_option("--timeout", one_timeout, "Wall-clock limit in seconds (omit: none)")
       ->check(finite_number(0, true, "; omit --timeout for no limit"));
   one->add_flag("-n,--dry-run", one_opt.dry_run, "Show the job and its state; run nothing");
+  one->add_flag("-y,--yes", one_opt.yes, "Run even when the estimate exceeds an hour");
 
   std::string spec_file, out_file;
   bool die_with_parent = false;

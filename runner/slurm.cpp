@@ -171,7 +171,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   for (const JobRow* row : todo)
     ids.push_back(row->id);
   AttemptStart start{host,          pid,        opts.threads_per_job, code_version(),
-                     compiler_id(), unix_now(), solver_fingerprint()};
+                     compiler_id(), unix_now(), solver_fingerprint(), std::nullopt};
   auto on_marked = [&](std::size_t k, int attempt) {
     const JobSpec& job = ex.jobs[todo[k]->ordinal];
     std::string stem = job.key + "." + std::to_string(attempt);

@@ -319,8 +319,13 @@ void Store::migrate() {
                              "' is an SQLite database but not a runner database; refusing to "
                              "modify it");
   const auto& m = migrations();
-  for (; v < schema_version; ++v)
+  for (; v < schema_version; ++v) {
+    // Version 5 adds one column; a file that already has it (written by this runner, then
+    // relabelled as older) keeps it: ADD COLUMN has no IF NOT EXISTS.
+    if (v == 4 && has_column(db_, "attempts", "predicted_cpu_s"))
+      continue;
     db_.exec(m[static_cast<std::size_t>(v)]);
+  }
   db_.exec("PRAGMA application_id=" + std::to_string(application_id));
   db_.exec("PRAGMA user_version=" + std::to_string(schema_version));
   tx.commit();
@@ -553,11 +558,11 @@ std::optional<int> Store::claim(std::int64_t job_id, const AttemptStart& a) {
   int attempt = static_cast<int>(u.integer(0));
   u.reset();
   Stmt i = db_.prepare("INSERT INTO attempts(job_id, attempt, state, started_at, host, pid, "
-                       "threads, code_version, compiler, solver_fingerprint) "
-                       "VALUES(?,?,'running',?,?,?,?,?,?,?)");
+                       "threads, code_version, compiler, solver_fingerprint, predicted_cpu_s) "
+                       "VALUES(?,?,'running',?,?,?,?,?,?,?,?)");
   i.bind(1, job_id).bind(2, attempt).bind(3, a.started_at).bind(4, a.host).bind(5, a.pid);
   i.bind(6, a.threads).bind(7, a.code_version).bind(8, a.compiler);
-  i.bind(9, a.solver_fingerprint).run();
+  i.bind(9, a.solver_fingerprint).bind(10, a.predicted_cpu_s).run();
   tx.commit();
   return attempt;
 }
@@ -705,6 +710,26 @@ std::optional<Store::JobSummary> Store::job_summary(const std::string& key) {
   while (m.step())
     j.metrics.emplace_back(m.text(0), m.opt_real(1));
   return j;
+}
+
+std::map<std::string, std::vector<CostSample>>
+Store::cost_samples(const std::vector<std::pair<std::string, std::string>>& case_schemes,
+                    std::size_t limit) {
+  std::map<std::string, std::vector<CostSample>> out;
+  Stmt q = db_.prepare(
+      "SELECT a.cpu_s, (SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='n_particles'), "
+      "(SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='steps') FROM jobs j JOIN "
+      "attempts a ON a.job_id=j.id AND a.attempt=j.attempts WHERE j.case_name=? AND j.scheme=? "
+      "AND j.state='done' AND a.cpu_s IS NOT NULL ORDER BY a.finished_at DESC "
+      "LIMIT ?");
+  for (const auto& [c, sch] : case_schemes) {
+    auto& v = out[c + "/" + (sch.empty() ? "-" : sch)];
+    q.bind(1, c).bind(2, sch).bind(3, static_cast<std::int64_t>(limit));
+    while (q.step())
+      v.push_back({q.real(0), q.opt_real(1), q.opt_real(2)});
+    q.reset();
+  }
+  return out;
 }
 
 std::size_t Store::count_in_state(JobState s) {

@@ -3,6 +3,7 @@
 // metrics, in one transaction. The schema is versioned by PRAGMA user_version (docs/runner.md).
 #pragma once
 
+#include "cost.hpp"
 #include "expand.hpp"
 #include "sqlite.hpp"
 
@@ -104,7 +105,8 @@ struct AttemptStart {
   std::string code_version;
   std::string compiler;
   double started_at = 0;
-  std::string solver_fingerprint; // provenance.hpp
+  std::string solver_fingerprint;        // provenance.hpp
+  std::optional<double> predicted_cpu_s; // the cost model's estimate (cost.hpp), if any
 };
 
 struct Finish {
@@ -207,7 +209,7 @@ struct Submission {
 
 class Store {
 public:
-  static constexpr int schema_version = 4;
+  static constexpr int schema_version = 5;
   // PRAGMA application_id of a runner database: 'SPHR'.
   static constexpr std::int64_t application_id = 0x53504852;
 
@@ -291,6 +293,13 @@ public:
     std::vector<std::pair<std::string, std::optional<double>>> metrics;
   };
   std::optional<JobSummary> job_summary(const std::string& key);
+
+  // Done jobs' last attempts (a diverged job stopped early: not a rate) with their CPU time and
+  // their n_particles and
+  // steps metrics, for each "case/scheme" ("-" for no scheme) asked; at most `limit` each.
+  std::map<std::string, std::vector<CostSample>>
+  cost_samples(const std::vector<std::pair<std::string, std::string>>& case_schemes,
+               std::size_t limit = 2000);
 
   // Jobs in a state, all studies.
   std::size_t count_in_state(JobState s);
