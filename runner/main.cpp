@@ -265,6 +265,9 @@ int main(int argc, char** argv) {
                    "... and every S seconds of wall clock (0: off)")
       ->capture_default_str()
       ->check(finite_number(0, false, "; 0: off"));
+  submit->add_option("--set", so.set, "Override a parameter for every job, KEY=VALUE (repeatable)");
+  submit->add_option("--where", so.where,
+                     "Submit only the study's jobs with this value, KEY=VALUE (repeatable)");
   submit->add_flag("--wait", so.wait, "Wait for the array, ingesting results as they arrive");
   submit->add_flag("-n,--dry-run", so.dry_run, "Write the manifest and script, do not sbatch");
 

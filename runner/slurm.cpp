@@ -115,7 +115,16 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
                std::ostream& err) {
   if (opts.jobs_per_task < 1)
     throw std::runtime_error("--jobs-per-task must be at least 1");
-  Expansion ex = expand(study, opts.tier, opts.max_jobs);
+  RunOptions ro; // --set and --where as for a local run
+  ro.tier = opts.tier;
+  ro.max_jobs = opts.max_jobs;
+  ro.set = opts.set;
+  ro.where = opts.where;
+  const SelectedExpansion sel = expand_selected(study, ro);
+  const Expansion& ex = sel.ex;
+  std::vector<bool> is_selected(ex.jobs.size(), false);
+  for (std::size_t i : sel.selected)
+    is_selected[i] = true;
   const std::string tier = ex.tier;
   Store store = Store::open_write(opts.db_path);
   const std::string host = host_name();
@@ -133,7 +142,10 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
     out << "note: " << n << " finished job(s) are stale: made by other solver code (fingerprint "
         << "differs from this build's " << fingerprint
         << "); kept as they are, --rerun-stale resubmits them\n";
-  const std::vector<const JobRow*>& todo = front.todo;
+  std::vector<const JobRow*> todo; // the pending jobs --where selects
+  for (const JobRow* row : front.todo)
+    if (is_selected[row->ordinal])
+      todo.push_back(row);
   std::size_t submitted_already = 0, done = 0;
   for (const auto& row : sync.jobs) {
     if (row.state == JobState::submitted)

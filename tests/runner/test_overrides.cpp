@@ -195,3 +195,20 @@ TEST(One, BadCaseKeyOrValueIsRefusedBeforeAnythingRuns) {
     EXPECT_FALSE(fs::exists(dir / "results")) << c.args;
   }
 }
+
+TEST(Overrides, SubmitTakesSetAndWhereToo) {
+  TempDir dir;
+  write_text(dir / "s.toml", grid_study);
+  // --dry-run: the manifest and batch script are written, sbatch is not called (no cluster
+  // needed); the jobs given back are pending again.
+  auto r = run_runner(dir, "submit s.toml --slurm --dry-run --where visc=visc03 --set n_side=12");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "grid [full+n_side=12]: 2 jobs: 0 done, 0 already submitted, 1 to submit");
+  EXPECT_CONTAINS(r.out, "(1 jobs in 1 array tasks); not submitted (--dry-run)");
+  const fs::path db = db_of(dir);
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE failure_class='submit'"), 1);
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM jobs j JOIN attempts a ON a.job_id=j.id WHERE "
+                        "json_extract(j.params_json, '$.visc') = 'visc03' AND "
+                        "json_extract(j.params_json, '$.n_side') = 12"),
+            1);
+}
