@@ -209,6 +209,15 @@ std::string label_of(const JobSpec& job, const std::vector<std::string>& varying
   return s;
 }
 
+// A running job on the progress line: its varying parameters (the key prefix when none vary).
+std::string running_label(const JobSpec& job, const std::vector<std::string>& varying) {
+  std::string s;
+  for (const auto& name : varying)
+    if (auto it = job.params.find(name); it != job.params.end())
+      s += (s.empty() ? "" : " ") + name + "=" + format_value_plain(it->second);
+  return s.empty() ? job.key.substr(0, 8) : s;
+}
+
 std::string short_number(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.4g", x);
@@ -764,7 +773,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           std::vector<std::pair<std::string, double>> fr;
           for (const auto& [id, t] : running)
             if (auto x = read_progress(t.progress))
-              fr.emplace_back(ex.jobs[t.index].key.substr(0, 8), *x);
+              fr.emplace_back(running_label(ex.jobs[t.index], ex.varying), *x);
           progress.set_fractions(std::move(fr));
         }
         progress.tick();

@@ -128,3 +128,15 @@ TEST(Cost, ARunRecordsEachJobsPredictionBesideItsCostAndLaterEstimatesLearnFromI
   ASSERT_EQ(dry.code, 0) << dry.out;
   EXPECT_CONTAINS(dry.out, "per particle-step (median of 2 finished job(s) in the database)");
 }
+
+// The progress line names running jobs by their varying parameters, not key prefixes.
+TEST(Cost, TheProgressLineNamesRunningJobsByTheirVaryingParameters) {
+  TempDir dir;
+  // 300 steps x 4 ms = 1.2 s each (step_sleep_us is not part of the job key).
+  write_text(dir / "s.toml", "[study]\nname = \"prog\"\ncase = \"checkpoint_demo\"\n[params]\n"
+                             "steps = 300\nstep_sleep_us = 4000\n[sweep]\nalpha = [0.25, 0.5]\n");
+  auto r = run_runner(dir, "s.toml -j 2 --progress plain --log-every-s 0.3");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "| alpha=0.25 ");
+  EXPECT_CONTAINS(r.out, "alpha=0.5 ");
+}
