@@ -621,8 +621,12 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     progress.set_log_every_s(opts.log_every_s);
     try {
       // Mean wall time of this study's earlier finished attempts: the ETA before a job finishes.
+      // Without any, the cost model's mean estimate per job (CPU time over the job's threads).
       if (auto prior = store.mean_wall_s(sync.study_id, tier))
         progress.set_prior_job_s(*prior);
+      else if (cost.estimated > 0)
+        progress.set_prior_job_s(cost.cpu_s / static_cast<double>(cost.estimated) /
+                                 std::max(opts.threads_per_job, 1));
       AttemptStart start{host,          pid, opts.threads_per_job, code_version(),
                          compiler_id(), 0,   fingerprint,          std::nullopt};
       std::size_t next = 0;

@@ -140,3 +140,13 @@ TEST(Cost, TheProgressLineNamesRunningJobsByTheirVaryingParameters) {
   EXPECT_CONTAINS(r.out, "| alpha=0.25 ");
   EXPECT_CONTAINS(r.out, "alpha=0.5 ");
 }
+
+// Before any job of the study has finished, the ETA comes from the cost model (not "?").
+TEST(Cost, TheFirstRunsEtaComesFromTheCostModel) {
+  TempDir dir;
+  const std::string study = std::string(SPH_SOURCE_DIR) + "/studies/alsph_dt.toml";
+  auto r = run_runner(dir, "'" + study + "' --tier quick -j 2 --progress live");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "\r\033[K[0/4] running ");
+  EXPECT_EQ(r.out.find("ETA ?"), std::string::npos) << r.out;
+}
