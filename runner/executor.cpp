@@ -2,8 +2,11 @@
 // heartbeats) and a pool of worker threads that each supervise one job process at a time.
 #include "executor.hpp"
 
+#include "cost.hpp"
+#include "diagnostics.hpp"
 #include "expand.hpp"
 #include "job_file.hpp"
+#include "overrides.hpp"
 #include "params.hpp"
 #include "process.hpp"
 #include "progress.hpp"
@@ -71,7 +74,20 @@ struct Task {
   int attempt = 0;
   fs::path spec, result, log, progress, output_dir;
   int lock_fd = -1; // flock on <output_dir>/.attempt.lock while the attempt runs
+  JobRecord record; // params.json of the job's folder
 };
+
+// Rewrites params.json at the end of an attempt; a failure to write it is a warning (the
+// database holds the same facts), not a reason to lose the result.
+void finish_record(Task& t, const std::string& state, double finished_at, std::ostream& err) {
+  t.record.state = state;
+  t.record.finished_at = finished_at;
+  try {
+    write_job_record(t.output_dir, t.record);
+  } catch (const std::exception& e) {
+    err << "warning: " << e.what() << "\n";
+  }
+}
 
 const char* const folder_lock_name = ".attempt.lock";
 
@@ -193,6 +209,15 @@ std::string label_of(const JobSpec& job, const std::vector<std::string>& varying
   return s;
 }
 
+// A running job on the progress line: its varying parameters (the key prefix when none vary).
+std::string running_label(const JobSpec& job, const std::vector<std::string>& varying) {
+  std::string s;
+  for (const auto& name : varying)
+    if (auto it = job.params.find(name); it != job.params.end())
+      s += (s.empty() ? "" : " ") + name + "=" + format_value_plain(it->second);
+  return s.empty() ? job.key.substr(0, 8) : s;
+}
+
 std::string short_number(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.4g", x);
@@ -258,11 +283,11 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
   if (r && (r->status == "done" || r->status == "diverged")) {
     f.metrics = r->metrics;
     f.message = r->message;
-    f.state = r->status;
-    if (f.state == "done")
+    f.state = r->status == "done" ? JobState::done : JobState::diverged;
+    if (f.state == JobState::done)
       for (const auto& [name, value] : f.metrics)
         if (!std::isfinite(value)) {
-          f.state = "diverged";
+          f.state = JobState::diverged;
           f.message = "metric '" + name + "' is " + (std::isnan(value) ? "NaN" : "infinite") +
                       (f.message.empty() ? "" : "; " + f.message);
           break;
@@ -270,30 +295,30 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
     return f;
   }
   if (c.timed_out) {
-    f.state = "timeout";
+    f.state = JobState::timeout;
     f.failure_class = "timeout";
     f.error_text = with_tail("exceeded the wall-clock limit of " +
                              short_number(timeout_s.value_or(0)) + " s (--timeout)");
   } else if (r && r->status == "failed") {
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "exception";
     f.message = r->message;
     f.error_text = with_tail("exception: " + r->message);
   } else if (r) { // cancelled without being asked
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "exception";
     f.message = r->message;
     f.error_text = with_tail("the case returned Cancelled without a cancellation request");
   } else if (!c.spawn_error.empty()) {
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "spawn";
     f.error_text = c.spawn_error;
   } else if (!c.exited) {
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "signal";
     f.error_text = with_tail("job process killed by " + signal_description(c.term_signal));
   } else {
-    f.state = "failed";
+    f.state = JobState::failed;
     f.failure_class = "exit";
     f.error_text = with_tail(
         "job process exited with code " + std::to_string(c.exit_code) +
@@ -302,22 +327,115 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
   return f;
 }
 
+SweepStart start_sweep(Store& store, const Study& study, const Expansion& ex,
+                       const SweepStartOptions& o, std::ostream& out) {
+  SweepStart r;
+  r.recovered = store.reset_stale(host_name(), static_cast<int>(getpid()), unix_now(),
+                                  o.stale_after_s, owner_alive);
+  r.integrity = r.recovered.empty() ? "ok" : store.quick_check();
+  if (store.count_in_state(JobState::submitted) > 0)
+    r.ingested = ingest_slurm(store, out);
+  r.sync = store.register_expansion(study, ex, o.retry_failed, o.max_attempts, o.rerun_stale,
+                                    solver_fingerprint());
+  for (const auto& row : r.sync.jobs)
+    if (row.state == JobState::pending)
+      r.todo.push_back(&row);
+  return r;
+}
+
+SelectedExpansion expand_selected(const Study& study_file, const RunOptions& opts) {
+  std::vector<Assignment> sets, where;
+  for (const auto& kv : opts.set)
+    sets.push_back(parse_assignment(study_file.specs, kv, "--set"));
+  for (const auto& kv : opts.where)
+    where.push_back(parse_assignment(study_file.specs, kv, "--where"));
+  Study study = study_file;
+  apply_overrides(study, sets);
+  SelectedExpansion r{expand(study, opts.tier, opts.max_jobs), {}};
+  if (!sets.empty())
+    r.ex.tier += "+" + overrides_label(sets);
+  if (where.empty())
+    for (std::size_t i = 0; i < r.ex.jobs.size(); ++i)
+      r.selected.push_back(i);
+  else
+    r.selected = matching_jobs(r.ex, where);
+  return r;
+}
+
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err) {
-  Expansion ex = expand(study, opts.tier, opts.max_jobs);
+  SelectedExpansion sel = expand_selected(study, opts);
+  const Expansion& ex = sel.ex;
+  const bool filtered = sel.selected.size() != ex.jobs.size();
+  std::vector<bool> is_selected(ex.jobs.size(), false);
+  for (std::size_t i : sel.selected)
+    is_selected[i] = true;
+  std::string where_text;
+  for (const auto& w : opts.where)
+    where_text += " --where " + w;
   const std::string tier = ex.tier;
   const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
 
-  if (opts.dry_run) {
-    std::map<std::string, std::string> states;
-    if (fs::exists(opts.db_path)) {
-      Store ro = Store::open_read(opts.db_path);
-      std::vector<std::string> keys;
-      for (const auto& j : ex.jobs)
-        keys.push_back(j.key);
-      states = ro.states_of(keys);
+  // The cost of what this run would run (new and pending jobs; failed ones with --retry-failed),
+  // calibrated from the database's finished jobs: printed, and above an hour of wall time on this
+  // machine the run needs --yes. In a real run a database the estimate cannot read is left to the
+  // writer's checks below (its messages), the estimate then goes without calibration.
+  std::map<std::string, JobState> states;
+  std::map<std::string, std::vector<CostSample>> samples;
+  {
+    std::vector<std::pair<std::string, std::string>> kinds;
+    for (std::size_t i : sel.selected) {
+      std::pair<std::string, std::string> k{ex.jobs[i].case_name, ex.jobs[i].scheme};
+      if (std::find(kinds.begin(), kinds.end(), k) == kinds.end())
+        kinds.push_back(k);
     }
+    std::error_code ec;
+    if (fs::exists(opts.db_path, ec)) {
+      try {
+        Store ro = Store::open_read(opts.db_path);
+        std::vector<std::string> keys;
+        for (const auto& j : ex.jobs)
+          keys.push_back(j.key);
+        states = ro.states_of(keys);
+        samples = ro.cost_samples(kinds);
+      } catch (const std::exception&) {
+        if (opts.dry_run)
+          throw;
+      }
+    }
+  }
+  std::vector<const JobSpec*> to_run;
+  for (std::size_t i : sel.selected) {
+    auto it = states.find(ex.jobs[i].key);
+    const bool failing =
+        it != states.end() && (it->second == JobState::failed || it->second == JobState::diverged ||
+                               it->second == JobState::timeout);
+    if (it == states.end() || it->second == JobState::pending || (failing && opts.retry_failed))
+      to_run.push_back(&ex.jobs[i]);
+  }
+  const StudyEstimate cost = estimate_jobs(to_run, samples);
+  const std::size_t est_workers =
+      std::min<std::size_t>(opts.jobs > 0 ? static_cast<std::size_t>(opts.jobs)
+                                          : std::max(1u, std::thread::hardware_concurrency()),
+                            std::max<std::size_t>(to_run.size(), 1));
+  auto print_estimate = [&] {
+    if (cost.estimated == 0)
+      return;
+    out << "estimate: " << format_cost(cost.cpu_s) << " for " << cost.estimated << " of the "
+        << to_run.size() << " job(s) to run, about "
+        << format_cost(cost.wall_s(est_workers), "wall") << " on this machine with " << est_workers
+        << " at once";
+    if (cost.unknown)
+      out << " (" << cost.unknown << " job(s) without an estimate)";
+    out << "\n";
+    for (const auto& b : cost.basis)
+      out << "  " << b << "\n";
+  };
+
+  if (opts.dry_run) {
     out << title << ": " << ex.jobs.size() << " jobs (" << ex.combinations << " combinations, "
         << ex.excluded << " excluded, " << ex.duplicates << " duplicates collapsed)\n";
+    if (filtered)
+      out << sel.selected.size() << " of them match" << where_text << " (listed below)\n";
     if (!ex.jobs.empty()) {
       std::string fixed;
       const auto& first = ex.jobs.front();
@@ -327,10 +445,11 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       out << "fixed:" << fixed << "\n";
     }
     std::string lines;
-    for (const auto& j : ex.jobs) {
+    for (std::size_t i : sel.selected) {
+      const JobSpec& j = ex.jobs[i];
       auto it = states.find(j.key);
       char st[16];
-      std::snprintf(st, sizeof st, "%-8s", it == states.end() ? "new" : it->second.c_str());
+      std::snprintf(st, sizeof st, "%-8s", it == states.end() ? "new" : to_string(it->second));
       lines += st;
       lines += ' ';
       lines += label_of(j, ex.varying);
@@ -341,8 +460,23 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       }
     }
     out << lines;
+    print_estimate();
     return 0;
   }
+  if (cost.wall_s(est_workers) > 3600 && !opts.yes) {
+    print_estimate();
+    throw StudyError(
+        {{study.file, 0, 0,
+          "this run is estimated at " + format_cost(cost.wall_s(est_workers), "wall") + " (" +
+              format_cost(cost.cpu_s) + ") on this machine, more than an hour: nothing was run. " +
+              (study.file.empty()
+                   ? std::string("Run it with --yes")
+                   : "Run it with --yes, or a shorter tier (--tier " +
+                         (study.tier_names().empty() ? std::string("NAME")
+                                                     : study.tier_names().front()) +
+                         "), or on a cluster (runner submit " + study.file + " --slurm)")}});
+  }
+  print_estimate();
 
   // SIGINT, SIGTERM, SIGHUP (closed terminal) and SIGPIPE (`runner ... | head`) stop the run
   // cleanly from here on: no new claims, running jobs stopped and put back to pending.
@@ -356,53 +490,52 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   auto db_error = [&](const std::exception& e) {
     return std::runtime_error("database '" + db_name + "': " + e.what());
   };
-  SyncReport sync;
-  std::size_t stale_kept = 0, stale_requeued = 0;
+  SweepStart front;
   try {
-    auto stale = store.reset_stale(host, pid, unix_now(), opts.stale_after_s, owner_alive);
-    if (!stale.empty()) {
-      out << "recovered " << stale.size() << " job(s) left running by a dead runner:";
-      for (std::size_t i = 0; i < stale.size() && i < 5; ++i)
-        out << "\n  " << stale[i].key.substr(0, 12) << " " << stale[i].reason;
-      out << "\n";
-      Stmt q = store.db().prepare("PRAGMA quick_check");
-      if (q.step() && q.text(0) != "ok")
-        err << "warning: database integrity check after an unclean shutdown: " << q.text(0) << "\n";
-    }
-
-    if (store.db().scalar_int("SELECT count(*) FROM jobs WHERE state='submitted'") > 0) {
-      IngestReport ing = ingest_slurm(store, out);
-      if (ing.ingested || ing.lost || ing.waiting)
-        out << "Slurm: ingested " << ing.ingested << " finished job(s), " << ing.lost
-            << " lost (pending again), " << ing.waiting << " still submitted\n";
-    }
-
-    sync = store.register_expansion(study, ex, opts.retry_failed, opts.max_attempts,
-                                    opts.rerun_stale, fingerprint);
-    stale_requeued = sync.stale_requeued;
-    stale_kept = sync.stale_kept;
+    front = start_sweep(
+        store, study, ex,
+        {opts.retry_failed, opts.max_attempts, opts.rerun_stale, opts.stale_after_s}, out);
     store.checkpoint_wal(false);
   } catch (const SqliteError& e) {
     throw db_error(e);
   }
-
-  std::map<std::string, std::size_t> counts;
-  std::vector<const JobRow*> todo;
-  for (const auto& row : sync.jobs) {
-    ++counts[row.state];
-    if (row.state == "pending")
-      todo.push_back(&row);
+  const auto& stale = front.recovered;
+  if (!stale.empty()) {
+    out << "recovered " << stale.size() << " job(s) left running by a dead runner:";
+    for (std::size_t i = 0; i < stale.size() && i < 5; ++i)
+      out << "\n  " << stale[i].key.substr(0, 12) << " " << stale[i].reason;
+    out << "\n";
+    if (front.integrity != "ok")
+      err << "warning: database integrity check after an unclean shutdown: " << front.integrity
+          << "\n";
   }
-  auto count = [&](const char* s) { return counts.count(s) ? counts[s] : std::size_t(0); };
-  std::size_t failing = count("failed") + count("timeout") + count("diverged");
-  out << title << ": " << ex.jobs.size() << " jobs: " << count("done") << " done already, ";
+  if (const auto& ing = front.ingested; ing && (ing->ingested || ing->lost || ing->waiting))
+    out << "Slurm: ingested " << ing->ingested << " finished job(s), " << ing->lost
+        << " lost (pending again), " << ing->waiting << " still submitted\n";
+  const SyncReport& sync = front.sync;
+  std::vector<const JobRow*> todo;
+  for (const JobRow* row : front.todo)
+    if (is_selected[row->ordinal])
+      todo.push_back(row);
+  const std::size_t stale_requeued = sync.stale_requeued, stale_kept = sync.stale_kept;
+
+  std::map<JobState, std::size_t> counts;
+  for (const auto& row : sync.jobs)
+    ++counts[row.state];
+  auto count = [&](JobState s) { return counts.count(s) ? counts[s] : std::size_t(0); };
+  std::size_t failing =
+      count(JobState::failed) + count(JobState::timeout) + count(JobState::diverged);
+  out << title << ": " << ex.jobs.size() << " jobs: " << count(JobState::done) << " done already, ";
   if (failing && !opts.retry_failed)
     out << failing << " failed/diverged/timed out (not retried; use --retry-failed), ";
-  if (count("running"))
-    out << count("running") << " running elsewhere, ";
+  if (count(JobState::running))
+    out << count(JobState::running) << " running elsewhere, ";
   out << todo.size() << " to run";
   if (sync.inserted)
     out << " (" << sync.inserted << " new)";
+  if (filtered)
+    out << "; only the " << sel.selected.size() << " job(s) matching" << where_text
+        << " run, the others stay as they are";
   out << "\n";
   if (stale_kept)
     out << "note: " << stale_kept << " finished job(s) are stale: made by other solver code "
@@ -487,18 +620,15 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     progress.set_width(terminal_columns());
     progress.set_log_every_s(opts.log_every_s);
     try {
-      {
-        // Mean wall time of this study's earlier finished attempts: the ETA before a job finishes.
-        Stmt q = store.db().prepare(
-            "SELECT avg(a.wall_s) FROM attempts a WHERE a.state IN ('done','diverged') AND "
-            "a.wall_s IS NOT NULL AND a.job_id IN (SELECT job_id FROM study_jobs WHERE "
-            "study_id=? AND tier=?)");
-        q.bind(1, sync.study_id).bind(2, tier);
-        if (q.step() && !q.is_null(0))
-          progress.set_prior_job_s(q.real(0));
-      }
+      // Mean wall time of this study's earlier finished attempts: the ETA before a job finishes.
+      // Without any, the cost model's mean estimate per job (CPU time over the job's threads).
+      if (auto prior = store.mean_wall_s(sync.study_id, tier))
+        progress.set_prior_job_s(*prior);
+      else if (cost.estimated > 0)
+        progress.set_prior_job_s(cost.cpu_s / static_cast<double>(cost.estimated) /
+                                 std::max(opts.threads_per_job, 1));
       AttemptStart start{host,          pid, opts.threads_per_job, code_version(),
-                         compiler_id(), 0,   fingerprint};
+                         compiler_id(), 0,   fingerprint,          std::nullopt};
       std::size_t next = 0;
       auto last_heartbeat = std::chrono::steady_clock::now();
       auto last_checkpoint = last_heartbeat;
@@ -507,6 +637,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         while (g_stop.load() == 0 && running.size() < n_workers && next < todo.size()) {
           const JobRow& row = *todo[next++];
           start.started_at = unix_now();
+          start.predicted_cpu_s = estimate_job(ex.jobs[row.ordinal], samples);
           auto attempt = store.claim(row.id, start);
           if (!attempt)
             continue; // another runner took it
@@ -546,6 +677,9 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
                   << "by another attempt" << holder << "; left pending\n";
               continue;
             }
+            t.record = {job.key,      study.name,      tier,     job.case_name, job.scheme,
+                        job.params,   job.params_json, *attempt, host,          start.started_at,
+                        std::nullopt, "running"};
             write_file_atomic(t.spec, spec_to_json(spec));
           } catch (const SqliteError&) {
             release_folder_lock(t);
@@ -553,7 +687,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           } catch (const std::exception& e) {
             release_folder_lock(t);
             Finish f;
-            f.state = "failed";
+            f.state = JobState::failed;
             f.failure_class = "spawn";
             f.finished_at = unix_now();
             f.error_text = std::string("cannot prepare the job: ") + e.what();
@@ -583,6 +717,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             }
           }
           if (cancelled_result) {
+            if (!is_empty_dir(o.task.output_dir)) // e.g. the checkpoint it resumes from
+              finish_record(o.task, "interrupted", unix_now(), err);
             store.release(o.task.job_id, o.task.attempt, host, pid,
                           "interrupted: the runner received " + signal_description(g_signal.load()),
                           unix_now());
@@ -593,19 +729,22 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             if (!f.metrics.empty())
               first_metric = f.metrics.front().first + "=" + short_number(f.metrics.front().second);
             unlink_folder_lock(o.task);
-            bool kept_output = !is_empty_dir(o.task.output_dir);
-            if (kept_output)
-              f.output_dir = o.task.output_dir.string();
-            else
-              fs::remove(o.task.output_dir, ec);
-            if (f.state != "done" && f.state != "diverged") {
-              // Keep the full output of a failed attempt next to its outputs.
-              fs::create_directories(o.task.output_dir, ec);
+            if (!holds_result(f.state) || opts.keep_logs) {
+              // Keep the full output of a failed attempt (of every one with --keep-logs) next
+              // to its outputs.
               fs::path kept =
                   o.task.output_dir / ("attempt-" + std::to_string(o.task.attempt) + ".log");
               fs::rename(o.task.log, kept, ec);
-              if (!ec)
+              if (!ec && !holds_result(f.state))
                 f.error_text += "\n(full output: " + kept.string() + ")";
+            }
+            // A folder with something in it (outputs, a checkpoint, a log) describes itself in
+            // params.json and is recorded; an empty one is removed (patch_test writes nothing).
+            if (!is_empty_dir(o.task.output_dir)) {
+              finish_record(o.task, to_string(f.state), f.finished_at, err);
+              f.output_dir = o.task.output_dir.string();
+            } else {
+              fs::remove(o.task.output_dir, ec);
             }
             if (!store.finish(o.task.job_id, o.task.attempt, host, pid, f)) {
               ++lost;
@@ -616,14 +755,14 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             std::string detail = short_number(o.child.wall_s) + " s";
             if (!first_metric.empty())
               detail += "  " + first_metric;
-            if (f.state == "diverged" && !f.message.empty())
+            if (f.state == JobState::diverged && !f.message.empty())
               detail += "  " + f.message;
-            if (f.state != "done" && f.state != "diverged") {
+            if (!holds_result(f.state)) {
               std::string first_line = f.error_text.substr(0, f.error_text.find('\n'));
               detail += "  " + first_line;
               failures.push_back(label + ": " + first_line);
             }
-            progress.finished(f.state, label, detail, o.child.wall_s);
+            progress.finished(to_string(f.state), label, detail, o.child.wall_s);
           }
           release_folder_lock(o.task);
           running.erase(o.task.job_id);
@@ -638,7 +777,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           std::vector<std::pair<std::string, double>> fr;
           for (const auto& [id, t] : running)
             if (auto x = read_progress(t.progress))
-              fr.emplace_back(ex.jobs[t.index].key.substr(0, 8), *x);
+              fr.emplace_back(running_label(ex.jobs[t.index], ex.varying), *x);
           progress.set_fractions(std::move(fr));
         }
         progress.tick();
@@ -684,7 +823,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   }
 
   // Summary from the store: the state of every job of the study (tier).
-  std::map<std::string, std::size_t> final_counts;
+  std::map<JobState, std::size_t> final_counts;
   try {
     final_counts = store.state_counts(sync.study_id, tier);
     store.checkpoint_wal(true);
@@ -695,7 +834,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   out << title << ": " << ex.jobs.size() << " jobs:";
   bool first = true;
-  for (const char* s : {"done", "diverged", "failed", "timeout", "running", "pending"})
+  for (JobState s : {JobState::done, JobState::diverged, JobState::failed, JobState::timeout,
+                     JobState::running, JobState::pending})
     if (final_counts.count(s)) {
       out << (first ? " " : ", ") << final_counts[s] << " " << s;
       first = false;
@@ -715,7 +855,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   }
   if (lost || busy)
     return 1;
-  bool any_failed = final_counts.count("failed") || final_counts.count("timeout");
+  bool any_failed = final_counts.count(JobState::failed) || final_counts.count(JobState::timeout);
   return any_failed ? 1 : 0;
 }
 

@@ -4,12 +4,15 @@
 #pragma once
 
 #include "expand.hpp"
+#include "slurm.hpp"
+#include "store.hpp"
 #include "study.hpp"
 
 #include <filesystem>
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace sph::runner {
 
@@ -37,10 +40,39 @@ struct RunOptions {
   bool rerun_stale = false;
   // Refuse a study (tier) that expands to more jobs than this, before expanding it.
   std::size_t max_jobs = default_max_jobs;
+  // --set KEY=VALUE: overrides for every job (registered under the tier "<tier>+KEY=VALUE,...");
+  // --where KEY=VALUE: run only the jobs with these values (the whole study is registered).
+  std::vector<std::string> set, where;
+  // Keep every attempt's job output as <output_dir>/attempt-N.log (`runner one`); otherwise only
+  // failed attempts keep theirs.
+  bool keep_logs = false;
+  // Run even when the estimate exceeds an hour of wall time (otherwise refused, exit 2).
+  bool yes = false;
 };
 
 struct Finish;
 struct ChildOutcome;
+class Store;
+
+// The front half `run` and `submit` share: expand -> register -> to-do. Jobs left running by
+// dead runners go back to pending, finished Slurm results are ingested (when jobs are submitted),
+// the study's expansion is registered (sync_study: new jobs pending, --retry-failed,
+// --rerun-stale) and its pending jobs, in expansion order, are the to-do list.
+struct SweepStart {
+  std::vector<StaleJob> recovered; // running jobs whose owner was gone, now pending
+  std::string integrity;           // PRAGMA quick_check after such a recovery ("ok": fine)
+  std::optional<IngestReport> ingested;
+  SyncReport sync;
+  std::vector<const JobRow*> todo; // the pending jobs, pointers into sync.jobs
+};
+struct SweepStartOptions {
+  bool retry_failed = false;
+  int max_attempts = 3;
+  bool rerun_stale = false;
+  double stale_after_s = 30;
+};
+SweepStart start_sweep(Store& store, const Study& study, const Expansion& ex,
+                       const SweepStartOptions& o, std::ostream& out);
 
 // The record of an attempt from how its job process ended, its result file (may be missing) and
 // its log (tail kept in the error text). Shared by the local pool and Slurm ingestion.
@@ -51,5 +83,14 @@ Finish outcome_to_finish(const ChildOutcome& c, const std::filesystem::path& res
 // 1 otherwise, 128+signal when interrupted. Study errors are thrown as StudyError before anything
 // is written.
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err);
+
+// The expansion run_study runs: --set applied, the tier named after the overrides, and the
+// indexes of the jobs --where selects (all of them without --where). Bad --set/--where input is a
+// StudyError naming the key and what it expects.
+struct SelectedExpansion {
+  Expansion ex;
+  std::vector<std::size_t> selected;
+};
+SelectedExpansion expand_selected(const Study& study, const RunOptions& opts);
 
 } // namespace sph::runner

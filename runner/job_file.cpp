@@ -1,7 +1,9 @@
 // Job-spec and result files (JSON), written atomically.
 #include "job_file.hpp"
 
+#include "job_key.hpp"
 #include "params.hpp"
+#include "provenance.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -9,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <fcntl.h>
 #include <fstream>
 #include <sstream>
@@ -86,6 +89,52 @@ void expect_format(const json& j, const char* format) {
 }
 
 } // namespace
+
+std::string iso_utc(double unix_s) {
+  const auto whole = static_cast<std::time_t>(std::floor(unix_s));
+  const int ms = static_cast<int>(std::floor((unix_s - static_cast<double>(whole)) * 1000));
+  std::tm tm{};
+  gmtime_r(&whole, &tm);
+  char buf[40], out[48];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &tm);
+  std::snprintf(out, sizeof out, "%s.%03dZ", buf, ms);
+  return out;
+}
+
+#ifndef SPH_BUILD_TYPE
+#define SPH_BUILD_TYPE ""
+#endif
+
+std::string job_record_json(const JobRecord& r) {
+  json identity = nullptr;
+  if (!r.identity_json.empty())
+    identity = json::parse(r.identity_json);
+  json j = {{"format", job_record_format},
+            {"job", r.key},
+            {"study", r.study},
+            {"tier", r.tier},
+            {"case", r.case_name},
+            {"scheme", r.scheme},
+            {"params", all_params_json(r.params)},
+            {"identity_params", identity},
+            {"numerics_version", numerics_version},
+            {"code_version", code_version()},
+            {"compiler", compiler_id()},
+            {"build_type", SPH_BUILD_TYPE},
+            {"solver_fingerprint", solver_fingerprint()},
+            {"attempt", r.attempt},
+            {"host", r.host},
+            {"state", r.state},
+            {"started_at", iso_utc(r.started_at)},
+            {"started_at_unix", r.started_at},
+            {"finished_at", r.finished_at ? json(iso_utc(*r.finished_at)) : json()},
+            {"finished_at_unix", r.finished_at ? json(*r.finished_at) : json()}};
+  return j.dump(1) + "\n";
+}
+
+void write_job_record(const fs::path& dir, const JobRecord& r) {
+  write_file_atomic(dir / job_record_name, job_record_json(r));
+}
 
 std::string spec_to_json(const JobFileSpec& s) {
   json params = json::object();

@@ -39,6 +39,32 @@ struct JobFileResult {
   std::string message;
 };
 
+// params.json in a job's folder: what the folder holds, without the database. Written by the
+// runner when an attempt starts (finished_at null, state "running") and again when it ends.
+inline constexpr const char* job_record_format = "sph-job-params/1";
+inline constexpr const char* job_record_name = "params.json";
+
+struct JobRecord {
+  std::string key, study, tier, case_name, scheme;
+  Params params;             // every parameter of the job, resolved and typed
+  std::string identity_json; // the canonical identity parameters the key hashes ("" unknown)
+  int attempt = 1;
+  std::string host;
+  double started_at = 0;             // Unix seconds
+  std::optional<double> finished_at; // none while running
+  std::string state = "running";     // then the job state
+};
+
+// The JSON text of params.json: format, job, study, tier, case, scheme, params (every one,
+// typed), identity_params, numerics_version, code_version, compiler, build_type,
+// solver_fingerprint, attempt, host, state, started_at / finished_at (ISO 8601 UTC) and
+// started_at_unix / finished_at_unix.
+std::string job_record_json(const JobRecord& r);
+// Writes <dir>/params.json atomically.
+void write_job_record(const std::filesystem::path& dir, const JobRecord& r);
+// "2026-12-01T22:45:07.123Z"
+std::string iso_utc(double unix_s);
+
 // Writes `text` to path.tmp, flushes it to disk and renames it to path. Throws on error.
 void write_file_atomic(const std::filesystem::path& path, const std::string& text);
 

@@ -4,6 +4,7 @@
 #include "diagnostics.hpp"
 #include "executor.hpp"
 #include "job_worker.hpp"
+#include "overrides.hpp"
 #include "provenance.hpp"
 #include "report.hpp"
 #include "slurm.hpp"
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
   // A positional study file and subcommands clash in CLI11: treat `runner STUDY.toml ...` as
   // `runner run STUDY.toml ...`.
   static const std::set<std::string> subcommands = {
-      "report", "run",    "job",    "query",      "status", "cases",  "table",
+      "report", "run",    "job",    "query",      "status", "cases",  "table",    "one",
       "export", "submit", "ingest", "slurm-task", "-h",     "--help", "--version"};
   std::vector<std::string> args(argv, argv + argc);
   if (args.size() > 1 && !subcommands.count(args[1]))
@@ -134,6 +135,34 @@ int main(int argc, char** argv) {
   run->add_flag("-n,--dry-run", ro.dry_run, "List the jobs and their state; run and write nothing");
   run->add_flag("--allow-network-fs", ro.allow_network_fs,
                 "Accept a database on a network file system (rollback journal, one runner only)");
+  run->add_flag("-y,--yes", ro.yes,
+                "Run even when the cost estimate exceeds an hour of wall time on this machine");
+  run->add_flag("--keep-logs", ro.keep_logs,
+                "Keep every attempt's output as <job folder>/attempt-N.log (default: failed only)");
+  run->add_option("--set", ro.set,
+                  "Override a parameter for every job, KEY=VALUE (repeatable; a new job where the "
+                  "value differs), e.g. --set n_side=40");
+  run->add_option("--where", ro.where,
+                  "Run only the study's jobs with this value, KEY=VALUE (repeatable), e.g. "
+                  "--where visc=visc03");
+
+  RunOptions one_opt;
+  std::string one_case, one_scheme, db_one = default_db;
+  std::vector<std::string> one_params;
+  double one_timeout = 0;
+  auto* one = app.add_subcommand(
+      "one", "Run one job of a case in the foreground, without a study file (study 'adhoc')");
+  one->add_option("case", one_case, "Case (runner cases lists them)")->required();
+  one->add_option("params", one_params, "Parameters, KEY=VALUE ... (e.g. visc=visc03 n_side=40)");
+  one->add_option("--scheme", one_scheme, "Scheme (cases with schemes; default: the case's first)");
+  one->add_option("--db", db_one, "Database file")->capture_default_str();
+  one->add_option("--threads-per-job", one_opt.threads_per_job, "OpenMP threads of the job")
+      ->capture_default_str()
+      ->check(integer_in(1, max_threads_per_job));
+  one->add_option("--timeout", one_timeout, "Wall-clock limit in seconds (omit: none)")
+      ->check(finite_number(0, true, "; omit --timeout for no limit"));
+  one->add_flag("-n,--dry-run", one_opt.dry_run, "Show the job and its state; run nothing");
+  one->add_flag("-y,--yes", one_opt.yes, "Run even when the estimate exceeds an hour");
 
   std::string spec_file, out_file;
   bool die_with_parent = false;
@@ -236,6 +265,9 @@ int main(int argc, char** argv) {
                    "... and every S seconds of wall clock (0: off)")
       ->capture_default_str()
       ->check(finite_number(0, false, "; 0: off"));
+  submit->add_option("--set", so.set, "Override a parameter for every job, KEY=VALUE (repeatable)");
+  submit->add_option("--where", so.where,
+                     "Submit only the study's jobs with this value, KEY=VALUE (repeatable)");
   submit->add_flag("--wait", so.wait, "Wait for the array, ingesting results as they arrive");
   submit->add_flag("-n,--dry-run", so.dry_run, "Write the manifest and script, do not sbatch");
 
@@ -272,6 +304,15 @@ int main(int argc, char** argv) {
       Study study = load_study(study_file);
       return run_study(study, ro, std::cout, std::cerr);
     }
+    if (*one) {
+      one_opt.db_path = db_one;
+      one_opt.jobs = 1;
+      one_opt.live_progress = false;
+      if (one_timeout > 0)
+        one_opt.timeout_s = one_timeout;
+      Study adhoc = adhoc_study(one_case, one_scheme, one_params);
+      return cmd_one(adhoc, one_opt, std::cout, std::cerr);
+    }
     if (*slurm_task)
       return run_slurm_task(manifest_file, task_index);
     if (*submit) {
@@ -304,6 +345,7 @@ int main(int argc, char** argv) {
     // A page found damaged in the middle of a command: name the file and what to do.
     int primary = e.code() & 0xff;
     std::string db = *run      ? db_run
+                     : *one    ? db_one
                      : *submit ? db_submit
                      : *ingest ? db_ingest
                      : *query  ? db_query

@@ -497,7 +497,6 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
   if (o.image_format != "svg" && o.image_format != "png")
     throw std::runtime_error("--image-format must be svg or png");
   Store store = Store::open_read(o.db);
-  Db& db = store.db();
 
   // The study: a file, or a name recorded in the database (then its recorded file).
   std::error_code ec;
@@ -506,51 +505,40 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
   if (fs::is_regular_file(o.study, ec)) {
     study_file = o.study;
   } else {
-    Stmt q = db.prepare("SELECT file FROM studies WHERE name=?");
-    q.bind(1, o.study);
-    if (!q.step()) {
-      std::vector<std::string> names;
-      Stmt all = db.prepare("SELECT name FROM studies ORDER BY name");
-      while (all.step())
-        names.push_back(all.text(0));
+    auto recorded = store.find_study(o.study);
+    if (!recorded) {
+      std::vector<std::string> names = store.study_names();
       throw std::runtime_error("'" + o.study + "' is neither a study file nor a study in " +
                                o.db.string() + did_you_mean(o.study, names) +
                                (names.empty() ? "" : "; studies: " + quoted_list(names)));
     }
-    study_file = q.text(0);
+    study_file = recorded->file;
     by_name = o.study;
   }
   Study study = load_study(study_file);
   std::vector<FigureSpec> figures = load_figures(study_file, study.specs);
 
-  Stmt sq = db.prepare("SELECT id, definition_sha256, description FROM studies WHERE name=?");
-  sq.bind(1, study.name);
-  if (!sq.step())
+  auto recorded = store.find_study(study.name);
+  if (!recorded)
     throw std::runtime_error("study '" + study.name + "' (" + study_file.string() +
                              ") has no jobs in " + o.db.string() + "; run it first: runner " +
                              study_file.string() + " --db " + o.db.string());
-  const std::int64_t sid = sq.integer(0);
-  const bool definition_changed = sq.text(1) != study.definition_sha256;
+  const std::int64_t sid = recorded->id;
+  const bool definition_changed = recorded->definition_sha256 != study.definition_sha256;
+  const std::optional<std::string> tier =
+      o.tier.empty() ? std::nullopt : std::optional<std::string>(o.tier);
 
   // Jobs of the study (or tier) in expansion order, with their metrics.
   std::vector<Job> jobs;
   {
-    std::string tier_filter = o.tier.empty() ? "" : " AND sj.tier=?";
-    Stmt q = db.prepare("SELECT j.id, j.key, j.state, j.scheme, j.params_json, j.output_dir FROM "
-                        "jobs j JOIN (SELECT job_id, min(ordinal) AS o FROM study_jobs sj WHERE "
-                        "sj.study_id=?" +
-                        tier_filter + " GROUP BY job_id) s ON s.job_id=j.id ORDER BY s.o");
-    q.bind(1, sid);
-    if (!o.tier.empty())
-      q.bind(2, o.tier);
-    while (q.step()) {
+    for (const StudyJob& s : store.study_jobs(sid, tier, false, solver_fingerprint())) {
       Job j;
-      j.id = q.integer(0);
-      j.key = q.text(1);
-      j.state = q.text(2);
-      j.scheme = q.text(3);
-      j.params = json::parse(q.text(4));
-      j.output_dir = q.is_null(5) ? "" : q.text(5);
+      j.id = s.id;
+      j.key = s.key;
+      j.state = to_string(s.state);
+      j.scheme = s.scheme;
+      j.params = json::parse(s.params_json);
+      j.output_dir = s.output_dir;
       if (!j.scheme.empty() && !j.params.contains(scheme_param))
         j.params[scheme_param] = j.scheme;
       jobs.push_back(std::move(j));
@@ -560,12 +548,9 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
     std::map<std::int64_t, Job*> by_id;
     for (auto& j : jobs)
       by_id[j.id] = &j;
-    Stmt m = db.prepare("SELECT m.job_id, m.name, m.value FROM metrics m WHERE m.job_id IN "
-                        "(SELECT job_id FROM study_jobs WHERE study_id=?)");
-    m.bind(1, sid);
-    while (m.step())
-      if (auto it = by_id.find(m.integer(0)); it != by_id.end())
-        it->second->metrics[m.text(1)] = m.opt_real(2);
+    for (const MetricValue& m : store.study_metrics(sid))
+      if (auto it = by_id.find(m.job_id); it != by_id.end())
+        it->second->metrics[m.name] = m.value;
   }
   std::map<std::string, std::size_t> states;
   for (const auto& j : jobs)
@@ -578,22 +563,13 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
   remove_leftover_temporaries(out_dir);
 
   std::vector<std::string> notices;
-  {
-    // Stale results (made by other solver code than this build's) are shown, and said so.
-    Stmt c = db.prepare("SELECT count(DISTINCT j.id) FROM jobs j JOIN study_jobs sj ON "
-                        "sj.job_id=j.id AND sj.study_id=?1" +
-                        std::string(o.tier.empty() ? "" : " AND sj.tier=?3") + " WHERE " +
-                        stale_sql(db, "j.id", "j.state", "?2"));
-    c.bind(1, sid).bind(2, solver_fingerprint());
-    if (!o.tier.empty())
-      c.bind(3, o.tier);
-    if (c.step() && c.integer(0) > 0)
-      notices.push_back(std::to_string(c.integer(0)) +
-                        " of the jobs shown are stale: their results were computed by other "
-                        "solver code than this build's (solver fingerprint " +
-                        solver_fingerprint() +
-                        "). Run the study with --rerun-stale to recompute them.");
-  }
+  // Stale results (made by other solver code than this build's) are shown, and said so.
+  if (std::size_t n = store.stale_in_study(sid, solver_fingerprint(), tier, false))
+    notices.push_back(std::to_string(n) +
+                      " of the jobs shown are stale: their results were computed by other "
+                      "solver code than this build's (solver fingerprint " +
+                      solver_fingerprint() +
+                      "). Run the study with --rerun-stale to recompute them.");
   if (definition_changed)
     notices.push_back("The study file changed since the study was last run (its SHA-256 differs "
                       "from the one recorded in the database): figures use the file's current "

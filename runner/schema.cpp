@@ -156,10 +156,16 @@ const char* schema_v4 = R"SQL(
 ALTER TABLE attempts ADD COLUMN solver_fingerprint TEXT;
 )SQL";
 
+// Version 5: attempts.predicted_cpu_s, the cost model's estimate of the attempt's CPU time when
+// it was claimed (runner/cost.hpp), beside its measured cpu_s; NULL without an estimate.
+const char* schema_v5 = R"SQL(
+ALTER TABLE attempts ADD COLUMN predicted_cpu_s REAL;
+)SQL";
+
 } // namespace
 
 const std::vector<const char*>& migrations() {
-  static const std::vector<const char*> m{schema_v1, schema_v2, schema_v3, schema_v4};
+  static const std::vector<const char*> m{schema_v1, schema_v2, schema_v3, schema_v4, schema_v5};
   return m;
 }
 

@@ -115,34 +115,42 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
                std::ostream& err) {
   if (opts.jobs_per_task < 1)
     throw std::runtime_error("--jobs-per-task must be at least 1");
-  Expansion ex = expand(study, opts.tier, opts.max_jobs);
+  RunOptions ro; // --set and --where as for a local run
+  ro.tier = opts.tier;
+  ro.max_jobs = opts.max_jobs;
+  ro.set = opts.set;
+  ro.where = opts.where;
+  const SelectedExpansion sel = expand_selected(study, ro);
+  const Expansion& ex = sel.ex;
+  std::vector<bool> is_selected(ex.jobs.size(), false);
+  for (std::size_t i : sel.selected)
+    is_selected[i] = true;
   const std::string tier = ex.tier;
   Store store = Store::open_write(opts.db_path);
   const std::string host = host_name();
   const int pid = static_cast<int>(getpid());
-  store.reset_stale(host, pid, unix_now(), 30, pid_alive);
-  IngestReport ing = ingest_slurm(store, out);
-  if (ing.ingested || ing.lost)
-    out << "ingested " << ing.ingested << " finished Slurm job(s)"
-        << (ing.lost ? ", " + std::to_string(ing.lost) + " lost (pending again)" : "") << "\n";
-
   const std::string fingerprint = solver_fingerprint();
-  SyncReport sync = store.register_expansion(study, ex, opts.retry_failed, opts.max_attempts,
-                                             opts.rerun_stale, fingerprint);
+  SweepStart front = start_sweep(store, study, ex,
+                                 {opts.retry_failed, opts.max_attempts, opts.rerun_stale, 30}, out);
+  if (const auto& ing = front.ingested; ing && (ing->ingested || ing->lost))
+    out << "ingested " << ing->ingested << " finished Slurm job(s)"
+        << (ing->lost ? ", " + std::to_string(ing->lost) + " lost (pending again)" : "") << "\n";
+  const SyncReport& sync = front.sync;
   if (sync.stale_requeued)
     out << "resubmitting " << sync.stale_requeued << " stale job(s) (--rerun-stale)\n";
   else if (auto n = sync.stale_kept)
     out << "note: " << n << " finished job(s) are stale: made by other solver code (fingerprint "
         << "differs from this build's " << fingerprint
         << "); kept as they are, --rerun-stale resubmits them\n";
-  std::vector<const JobRow*> todo;
+  std::vector<const JobRow*> todo; // the pending jobs --where selects
+  for (const JobRow* row : front.todo)
+    if (is_selected[row->ordinal])
+      todo.push_back(row);
   std::size_t submitted_already = 0, done = 0;
   for (const auto& row : sync.jobs) {
-    if (row.state == "pending")
-      todo.push_back(&row);
-    else if (row.state == "submitted")
+    if (row.state == JobState::submitted)
       ++submitted_already;
-    else if (row.state == "done")
+    else if (row.state == JobState::done)
       ++done;
   }
   const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
@@ -157,75 +165,51 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   fs::path exe = fs::canonical(opts.self_exe);
 
   // Record the submission first: its id names the directory.
-  std::int64_t sub_id;
   const std::size_t n_tasks = (todo.size() + static_cast<std::size_t>(opts.jobs_per_task) - 1) /
                               static_cast<std::size_t>(opts.jobs_per_task);
   fs::path dir;
-  {
-    WriteTx tx(store.db());
-    Stmt i = store.db().prepare("INSERT INTO slurm_submissions(study_id, tier, manifest, dir, "
-                                "n_jobs, n_tasks, submitted_at) VALUES(?,?,'','',?,?,?)");
-    i.bind(1, sync.study_id).bind(2, tier).bind(3, static_cast<std::int64_t>(todo.size()));
-    i.bind(4, static_cast<std::int64_t>(n_tasks)).bind(5, unix_now()).run();
-    sub_id = sqlite3_last_insert_rowid(store.db().handle());
-    dir = base / (study.name + "-" + std::to_string(sub_id));
-    Stmt u = store.db().prepare("UPDATE slurm_submissions SET manifest=?, dir=? WHERE id=?");
-    u.bind(1, (dir / "manifest.json").string()).bind(2, dir.string()).bind(3, sub_id).run();
-    tx.commit();
-  }
+  const std::int64_t sub_id = store.create_submission(
+      sync.study_id, tier, todo.size(), n_tasks, unix_now(),
+      [&](std::int64_t id) { return dir = base / (study.name + "-" + std::to_string(id)); });
   fs::create_directories(dir / "specs");
   fs::create_directories(dir / "results");
   fs::create_directories(dir / "logs");
 
-  // Mark the jobs submitted (attempt +1, attempt row `running` on host "slurm") and write specs.
+  // Mark the jobs submitted (attempt +1, attempt row `running` on host "slurm") and write specs,
+  // then the manifest, in the store's transaction.
   json tasks = json::array();
-  std::vector<std::pair<std::int64_t, int>> marked; // job id, attempt
-  {
-    WriteTx tx(store.db());
-    Stmt u = store.db().prepare(
-        "UPDATE jobs SET state='submitted', attempts=attempts+1, owner_host=?, owner_pid=?, "
-        "heartbeat_at=?, updated_at=?, progress=NULL, slurm_job_id=NULL WHERE id=? AND "
-        "state='pending' RETURNING attempts");
-    Stmt a = store.db().prepare(
-        "INSERT INTO attempts(job_id, attempt, state, started_at, host, pid, threads, "
-        "code_version, compiler, solver_fingerprint) VALUES(?,?,'running',?,'slurm',?,?,?,?,?)");
-    json task = json::array();
-    double now = unix_now();
-    for (const JobRow* row : todo) {
-      u.bind(1, host).bind(2, pid).bind(3, now).bind(4, now).bind(5, row->id);
-      if (!u.step()) {
-        u.reset();
-        continue;
-      }
-      int attempt = static_cast<int>(u.integer(0));
-      u.reset();
-      a.bind(1, row->id).bind(2, attempt).bind(3, now).bind(4, pid).bind(5, opts.threads_per_job);
-      a.bind(6, code_version()).bind(7, compiler_id()).bind(8, solver_fingerprint()).run();
-      const JobSpec& job = ex.jobs[row->ordinal];
-      std::string stem = job.key + "." + std::to_string(attempt);
-      // Outputs (HDF5 series, checkpoints) go to the shared directory the nodes see; ingestion
-      // moves a finished job's outputs to <db dir>/<study>/<key>, as a local run leaves them.
-      // Keyed by job, not by submission: a resubmitted job resumes from its checkpoint there.
-      fs::path output_dir = base / "outputs" / study.name / job.key;
-      fs::create_directories(output_dir);
-      JobFileSpec spec{job.key,
-                       job.case_name,
-                       job.scheme,
-                       job.params,
-                       opts.threads_per_job,
-                       attempt,
-                       output_dir.string(),
-                       "",
-                       opts.checkpoint_every_steps,
-                       opts.checkpoint_every_s};
-      write_file_atomic(dir / "specs" / (stem + ".spec.json"), spec_to_json(spec));
-      task.push_back({{"key", job.key}, {"attempt", attempt}, {"stem", stem}});
-      marked.emplace_back(row->id, attempt);
-      if (task.size() == static_cast<std::size_t>(opts.jobs_per_task)) {
-        tasks.push_back(task);
-        task = json::array();
-      }
+  json task = json::array();
+  std::vector<std::int64_t> ids;
+  for (const JobRow* row : todo)
+    ids.push_back(row->id);
+  AttemptStart start{host,          pid,        opts.threads_per_job, code_version(),
+                     compiler_id(), unix_now(), solver_fingerprint(), std::nullopt};
+  auto on_marked = [&](std::size_t k, int attempt) {
+    const JobSpec& job = ex.jobs[todo[k]->ordinal];
+    std::string stem = job.key + "." + std::to_string(attempt);
+    // Outputs (HDF5 series, checkpoints) go to the shared directory the nodes see; ingestion
+    // moves a finished job's outputs to <db dir>/<study>/<key>, as a local run leaves them.
+    // Keyed by job, not by submission: a resubmitted job resumes from its checkpoint there.
+    fs::path output_dir = base / "outputs" / study.name / job.key;
+    fs::create_directories(output_dir);
+    JobFileSpec spec{job.key,
+                     job.case_name,
+                     job.scheme,
+                     job.params,
+                     opts.threads_per_job,
+                     attempt,
+                     output_dir.string(),
+                     "",
+                     opts.checkpoint_every_steps,
+                     opts.checkpoint_every_s};
+    write_file_atomic(dir / "specs" / (stem + ".spec.json"), spec_to_json(spec));
+    task.push_back({{"key", job.key}, {"attempt", attempt}, {"stem", stem}});
+    if (task.size() == static_cast<std::size_t>(opts.jobs_per_task)) {
+      tasks.push_back(task);
+      task = json::array();
     }
+  };
+  auto write_manifest = [&]() -> std::size_t {
     if (!task.empty())
       tasks.push_back(task);
     json manifest = {{"format", manifest_format},
@@ -238,11 +222,10 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
                      {"timeout_s", opts.timeout_s ? json(*opts.timeout_s) : json()},
                      {"tasks", tasks}};
     write_file_atomic(dir / "manifest.json", manifest.dump(1) + "\n");
-    Stmt n = store.db().prepare("UPDATE slurm_submissions SET n_jobs=?, n_tasks=? WHERE id=?");
-    n.bind(1, static_cast<std::int64_t>(marked.size()));
-    n.bind(2, static_cast<std::int64_t>(tasks.size())).bind(3, sub_id).run();
-    tx.commit();
-  }
+    return tasks.size();
+  };
+  const std::vector<std::pair<std::int64_t, int>> marked =
+      store.mark_submitted(ids, start, sub_id, on_marked, write_manifest);
   if (marked.empty()) {
     out << "nothing to submit (another runner took the jobs)\n";
     return 0;
@@ -268,18 +251,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   write_file_atomic(dir / "job.sbatch", script.str());
 
   auto give_back = [&](const std::string& reason) {
-    WriteTx tx(store.db());
-    Stmt u = store.db().prepare("UPDATE jobs SET state='pending', owner_host=NULL, "
-                                "heartbeat_at=NULL, updated_at=? WHERE id=? AND "
-                                "state='submitted' AND attempts=?");
-    Stmt a = store.db().prepare("UPDATE attempts SET state='interrupted', failure_class='submit', "
-                                "finished_at=?, error_text=? WHERE job_id=? AND attempt=?");
-    double now = unix_now();
-    for (const auto& [id, attempt] : marked) {
-      u.bind(1, now).bind(2, id).bind(3, attempt).run();
-      a.bind(1, now).bind(2, reason).bind(3, id).bind(4, attempt).run();
-    }
-    tx.commit();
+    store.give_back_submitted(marked, reason, unix_now());
   };
 
   if (opts.dry_run) {
@@ -306,19 +278,10 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
     return 1;
   }
   {
-    WriteTx tx(store.db());
-    Stmt s = store.db().prepare("UPDATE slurm_submissions SET slurm_job_id=? WHERE id=?");
-    s.bind(1, array_id).bind(2, sub_id).run();
-    Stmt u = store.db().prepare("UPDATE jobs SET slurm_job_id=? WHERE id=? AND attempts=?");
-    Stmt a = store.db().prepare("UPDATE attempts SET slurm_job_id=? WHERE job_id=? AND attempt=?");
-    std::size_t k = 0;
+    std::vector<std::size_t> task_of;
     for (std::size_t t = 0; t < tasks.size(); ++t)
-      for (std::size_t j = 0; j < tasks[t].size(); ++j, ++k) {
-        std::string sid = array_id + "_" + std::to_string(t);
-        u.bind(1, sid).bind(2, marked[k].first).bind(3, marked[k].second).run();
-        a.bind(1, sid).bind(2, marked[k].first).bind(3, marked[k].second).run();
-      }
-    tx.commit();
+      task_of.insert(task_of.end(), tasks[t].size(), t);
+    store.record_array(sub_id, array_id, marked, task_of);
   }
   out << "submitted " << marked.size() << " jobs as Slurm array " << array_id << " ("
       << tasks.size() << " tasks"
@@ -329,15 +292,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   for (;;) {
     std::this_thread::sleep_for(std::chrono::duration<double>(opts.poll_s));
     IngestReport r = ingest_slurm(store, out);
-    std::int64_t left;
-    {
-      Stmt q = store.db().prepare(
-          "SELECT count(*) FROM jobs WHERE state='submitted' AND slurm_job_id LIKE ? || '\\_%' "
-          "ESCAPE '\\'");
-      q.bind(1, array_id);
-      q.step();
-      left = q.integer(0);
-    }
+    const std::size_t left = store.count_submitted_in_array(array_id);
     if (r.ingested || r.lost)
       out << "ingested " << r.ingested << (r.lost ? ", lost " + std::to_string(r.lost) : "") << "; "
           << left << " still submitted\n"
@@ -350,7 +305,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   for (const auto& [s, c] : counts)
     out << " " << c << " " << s;
   out << "\n";
-  return counts.count("failed") || counts.count("timeout") ? 1 : 0;
+  return counts.count(JobState::failed) || counts.count(JobState::timeout) ? 1 : 0;
 }
 
 int run_slurm_task(const fs::path& manifest_path, int task) {
@@ -429,62 +384,27 @@ int run_slurm_task(const fs::path& manifest_path, int task) {
 
 IngestReport ingest_slurm(Store& store, std::ostream& out) {
   IngestReport rep;
-  {
-    // Jobs marked submitted by a `runner submit` that died before sbatch returned (or before it
-    // recorded the array id): no array will report them, so they go back to pending. The
-    // submitter is known dead when it ran on this host and its pid is gone; from another host,
-    // after an hour.
-    const std::string host = host_name();
-    const double now = unix_now();
-    std::vector<std::pair<std::int64_t, int>> orphans;
-    Stmt q = store.db().prepare("SELECT id, attempts, owner_host, owner_pid, updated_at FROM jobs "
-                                "WHERE state='submitted' AND slurm_job_id IS NULL");
-    while (q.step()) {
-      bool dead = q.text(2) == host && !q.is_null(3) &&
-                  static_cast<int>(q.integer(3)) != static_cast<int>(getpid()) &&
-                  !pid_alive(static_cast<int>(q.integer(3)));
-      if (dead || now - q.real(4) > 3600)
-        orphans.emplace_back(q.integer(0), static_cast<int>(q.integer(1)));
-    }
-    if (!orphans.empty()) {
-      WriteTx tx(store.db());
-      Stmt u = store.db().prepare("UPDATE jobs SET state='pending', owner_host=NULL, "
-                                  "owner_pid=NULL, heartbeat_at=NULL, updated_at=? WHERE id=? AND "
-                                  "state='submitted' AND slurm_job_id IS NULL AND attempts=?");
-      Stmt a = store.db().prepare(
-          "UPDATE attempts SET state='abandoned', failure_class='stale', finished_at=?, "
-          "error_text='abandoned: the runner submitting this job died before sbatch returned' "
-          "WHERE job_id=? AND attempt=? AND state='running'");
-      for (const auto& [id, attempt] : orphans) {
-        u.bind(1, now).bind(2, id).bind(3, attempt).run();
-        a.bind(1, now).bind(2, id).bind(3, attempt).run();
-      }
-      tx.commit();
-      rep.lost += orphans.size();
-    }
-  }
+  // Jobs marked submitted by a `runner submit` that died before sbatch returned (or before it
+  // recorded the array id): no array will report them, so they go back to pending.
+  rep.lost += store.requeue_orphan_submissions(host_name(), static_cast<int>(getpid()), unix_now(),
+                                               pid_alive);
   struct Sub {
     std::int64_t id;
     std::string array_id;
     fs::path dir;
     std::optional<double> timeout;
-    std::string study;
+    std::string study, tier;
   };
   std::vector<Sub> subs;
-  {
-    Stmt q = store.db().prepare(
-        "SELECT s.id, coalesce(s.slurm_job_id, ''), s.dir FROM slurm_submissions s WHERE "
-        "EXISTS (SELECT 1 FROM jobs j WHERE j.state='submitted' AND j.slurm_job_id LIKE "
-        "s.slurm_job_id || '\\_%' ESCAPE '\\')");
-    while (q.step())
-      subs.push_back({q.integer(0), q.text(1), q.text(2), std::nullopt, ""});
-  }
+  for (const Submission& s : store.open_submissions())
+    subs.push_back({s.id, s.array_id, s.dir, std::nullopt, "", ""});
   for (auto& sub : subs) {
     try {
       json m = json::parse(read_all(sub.dir / "manifest.json"));
       if (!m.at("timeout_s").is_null())
         sub.timeout = m.at("timeout_s").get<double>();
       sub.study = m.value("study", "");
+      sub.tier = m.value("tier", "");
     } catch (...) {
     }
     // Is the array still queued or running? Asked before reading outcomes, so that a job whose
@@ -497,20 +417,7 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
       else if (q.out.find("Invalid job id") != std::string::npos)
         array_gone = true;
     }
-    Stmt jobs = store.db().prepare(
-        "SELECT id, key, attempts, slurm_job_id, output_dir FROM jobs WHERE state='submitted' "
-        "AND slurm_job_id LIKE ? || '\\_%' ESCAPE '\\'");
-    jobs.bind(1, sub.array_id);
-    struct J {
-      std::int64_t id;
-      std::string key;
-      int attempt;
-      std::string slurm_id;
-    };
-    std::vector<J> js;
-    while (jobs.step())
-      js.push_back(
-          {jobs.integer(0), jobs.text(1), static_cast<int>(jobs.integer(2)), jobs.text(3)});
+    const std::vector<SubmittedJob> js = store.submitted_jobs_of_array(sub.array_id);
     const fs::path db_dir =
         store.path().parent_path().empty() ? fs::path(".") : store.path().parent_path();
     std::vector<std::pair<std::int64_t, int>> lost;
@@ -528,7 +435,7 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
         continue;
       }
       ChildOutcome c;
-      std::string host = "?", slurm_id = j.slurm_id;
+      std::string host = "?", slurm_id = j.slurm_job_id;
       try {
         json o = json::parse(read_all(outcome));
         c.spawn_error = o.value("spawn_error", "");
@@ -547,17 +454,12 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
         c.spawn_error = "unreadable outcome file '" + outcome.string() + "': " + e.what();
       }
       Finish f = outcome_to_finish(c, result, log, sub.timeout);
-      if (f.state != "done" && f.state != "diverged")
+      if (f.state != JobState::done && f.state != JobState::diverged)
         f.error_text += "\n(full output: " + log.string() + ")";
       {
         std::string study_name = sub.study;
-        if (study_name.empty()) {
-          Stmt od = store.db().prepare("SELECT s.name FROM study_jobs sj JOIN studies s ON "
-                                       "s.id=sj.study_id WHERE sj.job_id=? LIMIT 1");
-          od.bind(1, j.id);
-          if (od.step())
-            study_name = od.text(0);
-        }
+        if (study_name.empty())
+          study_name = store.a_study_of_job(j.id).value_or("");
         fs::path src;
         try {
           src = json::parse(read_all(sub.dir / "specs" / (stem + ".spec.json")))
@@ -568,8 +470,24 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
           fs::path d = fs::absolute(db_dir) / study_name / j.key;
           // A finished job's outputs join the database's side; a failed one's stay in the
           // shared directory, where its checkpoint awaits the resubmission.
-          if ((f.state == "done" || f.state == "diverged") && !src.empty())
+          if (holds_result(f.state) && !src.empty())
             move_outputs(src, d);
+          // params.json, as a local run writes it (the start time from the job's wall time),
+          // in a folder that holds outputs.
+          try {
+            if (!fs::is_directory(d, ec) || fs::is_empty(d, ec))
+              throw std::runtime_error("no outputs");
+            JobFileSpec spec = read_spec_file(sub.dir / "specs" / (stem + ".spec.json"));
+            JobRecord rec{j.key,         study_name,
+                          sub.tier,      spec.case_name,
+                          spec.scheme,   spec.params,
+                          j.params_json, j.attempt,
+                          host,          f.finished_at - f.wall_s.value_or(0),
+                          f.finished_at, to_string(f.state)};
+            write_job_record(d, rec);
+          } catch (const std::exception&) {
+            // no outputs, or the spec is gone: the database describes the job
+          }
           if (fs::is_directory(d, ec) && !fs::is_empty(d, ec))
             f.output_dir = d.string();
           else
@@ -582,26 +500,15 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
       fs::remove(outcome, ec);
       fs::remove(result, ec);
       fs::remove(sub.dir / "specs" / (stem + ".spec.json"), ec);
-      if (f.state == "done" || f.state == "diverged")
+      if (f.state == JobState::done || f.state == JobState::diverged)
         fs::remove(log, ec);
     }
     if (!lost.empty()) {
-      WriteTx tx(store.db());
-      Stmt u = store.db().prepare("UPDATE jobs SET state='pending', owner_host=NULL, "
-                                  "heartbeat_at=NULL, updated_at=? WHERE id=? AND "
-                                  "state='submitted' AND attempts=?");
-      Stmt a = store.db().prepare(
-          "UPDATE attempts SET state='abandoned', failure_class='stale', finished_at=?, "
-          "error_text=? WHERE job_id=? AND attempt=?");
-      double now = unix_now();
-      std::string reason = "abandoned: Slurm array " + sub.array_id +
-                           " left the queue without an outcome for this job (cancelled, time "
-                           "limit, node failure)";
-      for (const auto& [id, attempt] : lost) {
-        u.bind(1, now).bind(2, id).bind(3, attempt).run();
-        a.bind(1, now).bind(2, reason).bind(3, id).bind(4, attempt).run();
-      }
-      tx.commit();
+      store.requeue_lost(lost,
+                         "abandoned: Slurm array " + sub.array_id +
+                             " left the queue without an outcome for this job (cancelled, time "
+                             "limit, node failure)",
+                         unix_now());
       rep.lost += lost.size();
     }
   }

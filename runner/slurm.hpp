@@ -45,6 +45,7 @@ struct SubmitOptions {
   // output directory under slurm_dir, so a resubmitted job resumes where its last task stopped.
   std::int64_t checkpoint_every_steps = 0;
   double checkpoint_every_s = 600;
+  std::vector<std::string> set, where; // as for `runner STUDY` (executor.hpp)
 };
 
 int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out, std::ostream& err);

@@ -3,6 +3,7 @@
 // metrics, in one transaction. The schema is versioned by PRAGMA user_version (docs/runner.md).
 #pragma once
 
+#include "cost.hpp"
 #include "expand.hpp"
 #include "sqlite.hpp"
 
@@ -10,14 +11,64 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <ostream>
 #include <string>
+#include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace sph::runner {
 
 // Seconds since the Unix epoch (the store's time unit).
 double unix_now();
+
+// The state of a job (the `jobs.state` column). Every transition is a Store method:
+//   pending -> running (claim) -> done | failed | diverged | timeout (finish) or pending (release,
+//   reset_stale); pending -> submitted (mark_submitted) -> done | ... (finish_submitted) or
+//   pending (give back, lost, orphaned); failed | diverged | timeout -> pending (--retry-failed);
+//   done | diverged -> pending (--rerun-stale). The way back to pending is one function
+//   (Store::to_pending). The column keeps these lower-case words, so existing databases and
+//   users' SQL (`WHERE status='done'` on job_metrics) keep working.
+enum class JobState { pending, submitted, running, done, failed, diverged, timeout };
+
+// The database word of a state ("pending", ...).
+const char* to_string(JobState s);
+// The state of a database word; nullopt for anything else.
+std::optional<JobState> parse_job_state(std::string_view s);
+// As parse_job_state, but an unknown word throws (a database written by something else).
+JobState job_state_from(std::string_view s);
+// Every state, in the order `runner status` shows them.
+const std::vector<JobState>& all_job_states();
+// A result is recorded: done or diverged.
+inline bool holds_result(JobState s) {
+  return s == JobState::done || s == JobState::diverged;
+}
+inline bool operator==(JobState a, std::string_view b) {
+  return b == to_string(a);
+}
+inline bool operator!=(JobState a, std::string_view b) {
+  return !(a == b);
+}
+inline std::ostream& operator<<(std::ostream& o, JobState s) {
+  return o << to_string(s);
+}
+
+// A JobState field that also takes its database word (f.state = "done"; an unknown word throws).
+class JobStateField {
+public:
+  JobStateField(JobState s = JobState::failed) : s_(s) {}
+  JobStateField(const char* s) : s_(job_state_from(s)) {}
+  JobStateField(const std::string& s) : s_(job_state_from(s)) {}
+  operator JobState() const { return s_; }
+  JobState get() const { return s_; }
+
+private:
+  JobState s_;
+};
+inline std::ostream& operator<<(std::ostream& o, JobStateField s) {
+  return o << s.get();
+}
 
 struct StudyRecord {
   std::string name;
@@ -30,7 +81,7 @@ struct StudyRecord {
 struct JobRow {
   std::int64_t id = 0;
   std::size_t ordinal = 0; // index in the expansion
-  std::string state;
+  JobState state = JobState::pending;
   int attempts = 0;
 };
 
@@ -54,11 +105,12 @@ struct AttemptStart {
   std::string code_version;
   std::string compiler;
   double started_at = 0;
-  std::string solver_fingerprint; // provenance.hpp
+  std::string solver_fingerprint;        // provenance.hpp
+  std::optional<double> predicted_cpu_s; // the cost model's estimate (cost.hpp), if any
 };
 
 struct Finish {
-  std::string state; // done, failed, diverged or timeout
+  JobStateField state; // done, failed, diverged or timeout
   double finished_at = 0;
   std::optional<double> wall_s, cpu_s;
   std::optional<std::int64_t> peak_rss_kb, child_pid, exit_code, signal;
@@ -76,9 +128,88 @@ struct StaleJob {
   std::string reason;
 };
 
+// Rows the read commands (status, table, export, report) and Slurm ingestion get from the store.
+struct StudyInfo {
+  std::int64_t id = 0;
+  std::string file, definition_sha256, description;
+};
+
+struct StateCount { // runner status: one (study, tier, state) group
+  std::string study, tier;
+  JobState state = JobState::pending;
+  std::int64_t count = 0, stale = 0;
+};
+
+struct RunningJob {
+  std::string key, host, params_json;
+  std::int64_t pid = 0;
+  std::optional<double> heartbeat_at, progress;
+};
+
+struct SubmittedArray {
+  std::string array_id; // "" when not yet known
+  std::int64_t jobs = 0;
+  double since = 0;
+};
+
+struct AttemptError {
+  std::string key, attempt_state, failure_class, error_text;
+  std::int64_t attempt = 0;
+  double finished_at = 0;
+  JobState job_state = JobState::pending;
+};
+
+struct StudyJob { // a job of a study, in expansion order
+  std::int64_t id = 0;
+  std::string key, scheme, params_json, output_dir;
+  JobState state = JobState::pending;
+  bool stale = false;             // made by other solver code than the fingerprint asked about
+  std::vector<std::string> tiers; // the study's tiers (current expansion) the job belongs to
+};
+
+struct MetricValue {
+  std::int64_t job_id = 0;
+  std::string name;
+  std::optional<double> value; // NaN is stored as NULL
+};
+
+// A value of an SQL result column, for the pivot of `runner table`.
+struct SqlCell {
+  int type = SQLITE_NULL; // SQLITE_INTEGER, SQLITE_FLOAT, SQLITE_TEXT, SQLITE_NULL
+  std::int64_t integer = 0;
+  double real = 0;
+  std::string text;
+};
+
+// --where filters: jobs whose parameter `name` has this value (all must hold) and one of the
+// schemes.
+using WhereValue = std::variant<double, std::string, std::int64_t>;
+struct JobFilter {
+  std::vector<std::pair<std::string, WhereValue>> params;
+  std::vector<std::string> schemes;
+};
+
+struct PivotCell {
+  SqlCell row, col;
+  std::optional<double> value;
+};
+
+struct SubmittedJob {
+  std::int64_t id = 0;
+  std::string key, slurm_job_id;
+  int attempt = 0;
+  std::string params_json;
+};
+
+struct Submission {
+  std::int64_t id = 0;
+  std::string array_id;
+  std::filesystem::path dir;
+};
+
 class Store {
 public:
-  static constexpr int schema_version = 4;
+  static constexpr int schema_version = 5;
   // PRAGMA application_id of a runner database: 'SPHR'.
   static constexpr std::int64_t application_id = 0x53504852;
 
@@ -96,10 +227,13 @@ public:
   // retry_failed puts failed/diverged/timeout jobs with fewer than max_attempts failing attempts
   // back to pending.
   // With rerun_stale_of (this build's solver fingerprint), done and diverged jobs whose result
-  // was made by other solver code go back to pending too.
+  // was made by other solver code go back to pending too. With accumulate, jobs registered
+  // earlier stay current members (nothing is "no longer in the study"), and r.jobs lists only
+  // the given jobs.
   SyncReport sync_study(const StudyRecord& study, const std::string& tier,
                         const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
-                        double now, const std::optional<std::string>& rerun_stale_of = {});
+                        double now, const std::optional<std::string>& rerun_stale_of = {},
+                        bool accumulate = false);
 
   // The front half shared by `run` and `submit`: registers an expanded study (sync_study with the
   // study's record) and counts the stale jobs it keeps; fingerprint is this build's solver
@@ -145,15 +279,116 @@ public:
                  const std::string& host, int pid, double now);
 
   // Counts by state of a study's jobs in a tier.
-  std::map<std::string, std::size_t> state_counts(std::int64_t study_id, const std::string& tier);
+  std::map<JobState, std::size_t> state_counts(std::int64_t study_id, const std::string& tier);
 
   // State of each key (absent keys are not in the map); for --dry-run.
-  std::map<std::string, std::string> states_of(const std::vector<std::string>& keys);
+  std::map<std::string, JobState> states_of(const std::vector<std::string>& keys);
+
+  // One job by key: state, attempts, output folder and metrics (in recording order).
+  struct JobSummary {
+    std::int64_t id = 0;
+    JobState state = JobState::pending;
+    int attempts = 0;
+    std::string output_dir;
+    std::vector<std::pair<std::string, std::optional<double>>> metrics;
+  };
+  std::optional<JobSummary> job_summary(const std::string& key);
+
+  // Done jobs' last attempts (a diverged job stopped early: not a rate) with their CPU time and
+  // their n_particles and
+  // steps metrics, for each "case/scheme" ("-" for no scheme) asked; at most `limit` each.
+  std::map<std::string, std::vector<CostSample>>
+  cost_samples(const std::vector<std::pair<std::string, std::string>>& case_schemes,
+               std::size_t limit = 2000);
+
+  // Jobs in a state, all studies.
+  std::size_t count_in_state(JobState s);
+  // PRAGMA quick_check: "ok" or SQLite's first complaint.
+  std::string quick_check();
+  // Mean wall time of the finished (done, diverged) attempts of a study's tier; the ETA before
+  // the first job of a run finishes.
+  std::optional<double> mean_wall_s(std::int64_t study_id, const std::string& tier);
+
+  // --- Reading (status, table, export, report) ---------------------------------------------
+  std::optional<StudyInfo> find_study(const std::string& name);
+  std::vector<std::string> study_names();
+  // Counts per (study, tier, state) of the current expansions (one study, or all), with how many
+  // are stale against `fingerprint`.
+  std::vector<StateCount> state_table(std::optional<std::int64_t> study_id,
+                                      const std::string& fingerprint);
+  std::vector<RunningJob> running_jobs(std::optional<std::int64_t> study_id);
+  std::vector<SubmittedArray> submitted_arrays(std::optional<std::int64_t> study_id);
+  // The last `limit` failed, timed-out, abandoned or interrupted attempts with an error text.
+  std::vector<AttemptError> last_errors(std::optional<std::int64_t> study_id, int limit);
+  // The jobs of a study in expansion order: of one tier, or all; only the current expansion, or
+  // every job ever registered with it.
+  std::vector<StudyJob> study_jobs(std::int64_t study_id, const std::optional<std::string>& tier,
+                                   bool current_only, const std::string& fingerprint);
+  // The metrics of every job ever registered with a study, by job and then recording order.
+  std::vector<MetricValue> study_metrics(std::int64_t study_id);
+  // Distinct metric names of a study's jobs.
+  std::vector<std::string> metric_names(std::int64_t study_id);
+  // Parameter names of a study's jobs; has_param: one of them.
+  std::vector<std::string> param_names(std::int64_t study_id);
+  bool has_param(std::int64_t study_id, const std::string& name);
+  // Jobs of a study that are stale against `fingerprint`: current ones, or (report) any of a tier.
+  std::size_t stale_in_study(std::int64_t study_id, const std::string& fingerprint,
+                             const std::optional<std::string>& tier, bool current_only);
+  // `runner table`: agg(metric) ("avg", "min", "max", "count") grouped by two parameters (or
+  // "scheme") over the study's current jobs that pass the filter.
+  std::vector<PivotCell> pivot(std::int64_t study_id, const std::string& rows,
+                               const std::string& cols, const std::string& metric,
+                               const std::string& agg, const JobFilter& filter);
+  // `runner query`: prepares the user's statement after checking it reads only (authorizer and
+  // sqlite3_stmt_readonly) and is one statement; throws with the reason otherwise.
+  Stmt prepare_read_query(const std::string& sql);
+
+  // --- Slurm -------------------------------------------------------------------------------
+  // Records a submission of n_jobs in n_tasks; dir_of(id) names its directory (manifest in it).
+  std::int64_t create_submission(std::int64_t study_id, const std::string& tier, std::size_t n_jobs,
+                                 std::size_t n_tasks, double now,
+                                 const std::function<std::filesystem::path(std::int64_t)>& dir_of);
+  // One transaction: pending -> submitted (attempt + 1, attempt row `running` on host "slurm")
+  // for each job still pending; on_marked(index in ids, attempt) for each (writes its spec);
+  // then before_commit() (writes the manifest) returns the task count recorded with the number
+  // of marked jobs in the submission. An exception rolls everything back. Returns (id, attempt).
+  std::vector<std::pair<std::int64_t, int>>
+  mark_submitted(const std::vector<std::int64_t>& ids, const AttemptStart& a,
+                 std::int64_t submission, const std::function<void(std::size_t, int)>& on_marked,
+                 const std::function<std::size_t()>& before_commit);
+  // sbatch failed (or --dry-run): submitted -> pending, attempt rows `interrupted` [submit].
+  void give_back_submitted(const std::vector<std::pair<std::int64_t, int>>& jobs,
+                           const std::string& reason, double now);
+  // The array id of a submission and each job's "<array>_<task>" id (jobs[k] in task tasks[k]).
+  void record_array(std::int64_t submission, const std::string& array_id,
+                    const std::vector<std::pair<std::int64_t, int>>& jobs,
+                    const std::vector<std::size_t>& tasks);
+  // Jobs still submitted in an array.
+  std::size_t count_submitted_in_array(const std::string& array_id);
+  // Submitted jobs whose submitter died before sbatch returned (no array id): pending again.
+  std::size_t requeue_orphan_submissions(const std::string& host, int self_pid, double now,
+                                         const std::function<bool(int)>& pid_alive);
+  // Submissions with jobs still submitted, and those jobs.
+  std::vector<Submission> open_submissions();
+  std::vector<SubmittedJob> submitted_jobs_of_array(const std::string& array_id);
+  // A study the job belongs to (its first), for jobs whose manifest does not say.
+  std::optional<std::string> a_study_of_job(std::int64_t job_id);
+  // Submitted jobs whose array left the queue without an outcome: pending again.
+  void requeue_lost(const std::vector<std::pair<std::int64_t, int>>& jobs,
+                    const std::string& reason, double now);
 
 private:
   Store(Db db, std::filesystem::path path) : db_(std::move(db)), path_(std::move(path)) {}
   void migrate();
   void record_attempt(std::int64_t job_id, int attempt, const Finish& f); // inside a transaction
+  // The one way back to `pending`: prepares "UPDATE jobs SET state='pending' (no owner, no
+  // heartbeat), updated_at=?1 WHERE <cond>"; cond's own parameters start at ?2. Every reset
+  // (stale owner, release, --retry-failed, --rerun-stale, Slurm give-back, lost and orphaned
+  // submissions) runs through it, inside the caller's transaction.
+  Stmt to_pending(const std::string& cond);
+  // Closes the attempt rows of jobs sent back to pending: state (interrupted or abandoned),
+  // failure_class, finished_at, error_text = ?1..?4; cond's parameters start at ?5.
+  Stmt end_attempt(const std::string& cond);
   Db db_;
   std::filesystem::path path_;
 };
@@ -162,13 +397,6 @@ private:
 // at_open: found before anything was written; otherwise in the middle of a command.
 std::string damaged_message(const std::filesystem::path& path, const std::string& what,
                             bool at_open = true);
-
-// SQL: 1 when job `job` (an SQL expression for jobs.id, e.g. "j.id") with state `state` (e.g.
-// "j.state") holds a result (done or diverged) made by solver code other than the bound
-// parameter `fp` (e.g. "?3"); 0 otherwise. For databases before schema version 4 (no
-// fingerprints) every result is stale.
-std::string stale_sql(Db& db, const std::string& job, const std::string& state,
-                      const std::string& fp);
 
 // True when `dir` is on NFS, SMB/CIFS, Lustre, GPFS, BeeGFS, Ceph or FUSE (sshfs...).
 bool is_network_filesystem(const std::filesystem::path& dir, std::string* fs_name = nullptr);

@@ -81,6 +81,8 @@ struct Study {
   std::vector<Tier> tiers;
 
   std::string definition_sha256; // of the file's bytes
+  // Registering the study adds its jobs without retiring the others (`runner one`'s "adhoc").
+  bool accumulate = false;
 
   const Tier* find_tier(const std::string& name) const;
   std::vector<std::string> tier_names() const;

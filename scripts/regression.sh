@@ -42,7 +42,7 @@ for s in "${files[@]}"; do
 done
 for s in "${studies[@]}"; do
   echo "regression: $(basename "$s")" >&2
-  "$RUNNER" "$s" "${tier[@]}" --db "$DB" -j "${JOBS:-2}" --progress plain >"$TMP/run.log" 2>&1 ||
+  "$RUNNER" "$s" "${tier[@]}" --db "$DB" -j "${JOBS:-2}" --progress plain --yes >"$TMP/run.log" 2>&1 ||
     { cat "$TMP/run.log" >&2; echo "regression: $s exited non-zero" >&2; exit 1; }
 done
 

@@ -1,0 +1,152 @@
+// Issue 16 part 4 (first step): the cost of a study before it runs. particles x steps x seconds
+// per particle-step, calibrated from the database's finished jobs; --dry-run prints it, and a run
+// estimated at more than an hour of wall time needs --yes.
+#include "cost.hpp"
+#include "e2e_helpers.hpp"
+#include "expand.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+using namespace sph::runner;
+using namespace sph::runner::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The number before " CPU hours" in an estimate line, or -1.
+double cpu_hours(const std::string& out) {
+  auto e = out.find("estimate: ");
+  auto h = out.find(" CPU hours", e);
+  if (e == std::string::npos || h == std::string::npos)
+    return -1;
+  return std::atof(out.substr(e + 10, h - e - 10).c_str());
+}
+
+Expansion channel_jobs() {
+  return expand(parse_study(R"([study]
+name = "c"
+case = "cylinder_channel"
+scheme = "alsph"
+[params]
+t_end = 10.0
+[sweep]
+D_over_dx = [10, 20]
+)",
+                            "c.toml"));
+}
+
+} // namespace
+
+TEST(Cost, TheFlagshipStudysDryRunPrintsItsEstimateAndARunNeedsYes) {
+  TempDir dir;
+  const std::string study = std::string(SPH_SOURCE_DIR) + "/studies/alsph_dt.toml";
+  auto dry = run_runner(dir, "'" + study + "' --dry-run");
+  ASSERT_EQ(dry.code, 0) << dry.out;
+  // 36 jobs, about 7,500 CPU hours (the issue's "about 8 000"): D/dx = 30 is 163k particles, the
+  // smallest dt_star 4.7 million steps.
+  EXPECT_CONTAINS(dry.out, "for 36 of the 36 job(s) to run");
+  const double h = cpu_hours(dry.out);
+  EXPECT_GT(h, 5000) << dry.out;
+  EXPECT_LT(h, 10000) << dry.out;
+  EXPECT_CONTAINS(dry.out, "cylinder_channel/alsph: 36 job(s), particles x steps x 6.7 us");
+  // Running it is refused before anything is written, pointing to --yes, a tier and submit.
+  auto run = run_runner(dir, "'" + study + "'");
+  EXPECT_EQ(run.code, 2) << run.out;
+  EXPECT_CONTAINS(run.out, "more than an hour: nothing was run");
+  EXPECT_CONTAINS(run.out, "--yes");
+  EXPECT_CONTAINS(run.out, "--tier quick");
+  EXPECT_CONTAINS(run.out, "runner submit");
+  EXPECT_FALSE(fs::exists(dir / "results"));
+  // Its quick tier is seconds: no estimate above an hour, nothing refused (dry run here).
+  auto quick = run_runner(dir, "'" + study + "' --tier quick --dry-run");
+  ASSERT_EQ(quick.code, 0) << quick.out;
+  EXPECT_CONTAINS(quick.out, "CPU seconds for 4 of the 4 job(s) to run");
+}
+
+TEST(Cost, EstimatesUseTheDatabasesFinishedJobsWhenThereAreAny) {
+  Expansion ex = channel_jobs();
+  ASSERT_EQ(ex.jobs.size(), 2u);
+  std::vector<const JobSpec*> jobs{&ex.jobs[0], &ex.jobs[1]};
+  auto size0 = cost_size(ex.jobs[0]), size1 = cost_size(ex.jobs[1]);
+  ASSERT_TRUE(size0 && size1);
+  // D/dx = 10 in the 14 x 13 channel: (182 - pi/4) x 100 particles; 10 x 10 / dt_star steps.
+  EXPECT_NEAR(size0->particles, (14.0 * 13.0 - 3.14159265358979 / 4) * 100, 1e-6);
+  EXPECT_NEAR(size0->steps, 10.0 * 10 / 5.08e-3, 1e-6);
+  EXPECT_NEAR(size1->particles / size0->particles, 4, 1e-12);
+  EXPECT_NEAR(size1->steps / size0->steps, 2, 1e-12);
+
+  // Nothing finished: the measured default (6.7 us per particle-step).
+  auto d = estimate_jobs(jobs, {});
+  EXPECT_EQ(d.estimated, 2u);
+  EXPECT_NEAR(d.cpu_s, 6.7e-6 * (size0->particles * size0->steps + size1->particles * size1->steps),
+              1e-6 * d.cpu_s);
+  // Finished jobs at 2 us per particle-step (the median of three): that rate.
+  std::map<std::string, std::vector<CostSample>> s = {
+      {"cylinder_channel/alsph", {{2.0, 1e3, 1e3}, {30.0, 1e3, 1e4}, {1.0, 1e3, 1e3}}}};
+  auto c = estimate_jobs(jobs, s);
+  EXPECT_NEAR(c.cpu_s, 2e-6 * (size0->particles * size0->steps + size1->particles * size1->steps),
+              1e-9 * c.cpu_s);
+  EXPECT_NEAR(c.longest_job_s, 2e-6 * size1->particles * size1->steps, 1e-9 * c.cpu_s);
+  EXPECT_CONTAINS(c.basis.at(0), "median of 3 finished job(s)");
+  EXPECT_NEAR(c.wall_s(2), c.longest_job_s, 1e-9 * c.cpu_s); // one job dominates
+  EXPECT_NEAR(c.wall_s(1), c.cpu_s, 1e-9 * c.cpu_s);
+
+  // A case without a formula: the median CPU time of its finished jobs; none: no estimate.
+  Expansion p = expand(parse_study(
+      "[study]\nname = \"p\"\ncase = \"patch_test\"\n[sweep]\nseed = [1, 2, 3]\n", "p.toml"));
+  std::vector<const JobSpec*> pj{&p.jobs[0], &p.jobs[1], &p.jobs[2]};
+  EXPECT_FALSE(cost_size(p.jobs[0]));
+  auto none = estimate_jobs(pj, {});
+  EXPECT_EQ(none.estimated, 0u);
+  EXPECT_EQ(none.unknown, 3u);
+  auto med =
+      estimate_jobs(pj, {{"patch_test/-", {{0.5, 400.0, {}}, {0.1, {}, {}}, {0.3, {}, {}}}}});
+  EXPECT_EQ(med.estimated, 3u);
+  EXPECT_NEAR(med.cpu_s, 3 * 0.3, 1e-12);
+}
+
+TEST(Cost, FormatsCostsInReadableUnits) {
+  EXPECT_EQ(format_cost(7465.0 * 3600), "7465 CPU hours");
+  EXPECT_EQ(format_cost(2.95 * 3600), "2.95 CPU hours");
+  EXPECT_EQ(format_cost(90), "1.5 CPU minutes");
+  EXPECT_EQ(format_cost(12.5, "wall"), "12.5 wall seconds");
+}
+
+TEST(Cost, ARunRecordsEachJobsPredictionBesideItsCostAndLaterEstimatesLearnFromIt) {
+  TempDir dir;
+  const fs::path db = dir / "results" / "results.sqlite";
+  const std::string src = std::string(SPH_SOURCE_DIR) + "/studies/";
+  auto r = run_runner(dir, "'" + src + "alsph_dt.toml' --tier quick -j 2 --progress plain");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "estimate: ");
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE predicted_cpu_s > 0 AND cpu_s > 0"),
+            4);
+  // The next study of the same case and scheme is estimated from the two done jobs' rate.
+  auto dry = run_runner(dir, "'" + src + "alsph_iter.toml' --tier quick --dry-run");
+  ASSERT_EQ(dry.code, 0) << dry.out;
+  EXPECT_CONTAINS(dry.out, "per particle-step (median of 2 finished job(s) in the database)");
+}
+
+// The progress line names running jobs by their varying parameters, not key prefixes.
+TEST(Cost, TheProgressLineNamesRunningJobsByTheirVaryingParameters) {
+  TempDir dir;
+  // 300 steps x 4 ms = 1.2 s each (step_sleep_us is not part of the job key).
+  write_text(dir / "s.toml", "[study]\nname = \"prog\"\ncase = \"checkpoint_demo\"\n[params]\n"
+                             "steps = 300\nstep_sleep_us = 4000\n[sweep]\nalpha = [0.25, 0.5]\n");
+  auto r = run_runner(dir, "s.toml -j 2 --progress plain --log-every-s 0.3");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "| alpha=0.25 ");
+  EXPECT_CONTAINS(r.out, "alpha=0.5 ");
+}
+
+// Before any job of the study has finished, the ETA comes from the cost model (not "?").
+TEST(Cost, TheFirstRunsEtaComesFromTheCostModel) {
+  TempDir dir;
+  const std::string study = std::string(SPH_SOURCE_DIR) + "/studies/alsph_dt.toml";
+  auto r = run_runner(dir, "'" + study + "' --tier quick -j 2 --progress live");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "\r\033[K[0/4] running ");
+  EXPECT_EQ(r.out.find("ETA ?"), std::string::npos) << r.out;
+}
