@@ -131,11 +131,16 @@ void release_folder_lock(Task& t) {
   t.lock_fd = -1;
 }
 
-// The owner of a job on this host is alive: its pid runs, and (when /proc says) it is a process
-// of the same program, not an unrelated one that reused the pid of a dead runner.
-bool owner_alive(int pid) {
+// The owner of a job on this host is alive: its pid runs and that process started before it
+// claimed the job (claimed_at), so it is not an unrelated process that reused the pid of a dead
+// runner. (The name of the program is no test: a runner started from a copy of the binary under
+// another name, or from a rebuilt one, owns its jobs as well.) Where /proc gives no start time,
+// the process having the same name as this one decides.
+bool owner_alive(int pid, double claimed_at) {
   if (!pid_alive(pid))
     return false;
+  if (const auto start = process_start_time(pid))
+    return *start <= claimed_at + 2.0; // /proc's boot time has whole seconds
   auto comm = [](const std::string& p) {
     std::ifstream in("/proc/" + p + "/comm");
     std::string s;

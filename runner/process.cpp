@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <fstream>
 #include <spawn.h>
+#include <sstream>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <thread>
@@ -32,6 +33,33 @@ bool pid_alive(int pid) {
     return true;
   char state = text[paren + 2];
   return state != 'Z' && state != 'X';
+}
+
+std::optional<double> process_start_time(int pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  if (pid <= 0 || !std::getline(stat, text))
+    return std::nullopt;
+  const auto paren = text.rfind(')');
+  if (paren == std::string::npos)
+    return std::nullopt;
+  std::istringstream rest(text.substr(paren + 2)); // field 3 (state) on
+  std::string field;
+  for (int k = 3; k < 22 && rest >> field; ++k) {
+  }
+  unsigned long long ticks = 0;
+  if (!(rest >> ticks))
+    return std::nullopt; // field 22: starttime
+  std::ifstream boot("/proc/stat");
+  std::string line;
+  while (std::getline(boot, line))
+    if (line.rfind("btime ", 0) == 0) {
+      const long hz = ::sysconf(_SC_CLK_TCK);
+      if (hz <= 0)
+        return std::nullopt;
+      return std::stod(line.substr(6)) + static_cast<double>(ticks) / static_cast<double>(hz);
+    }
+  return std::nullopt;
 }
 
 std::string signal_description(int sig) {

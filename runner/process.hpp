@@ -37,6 +37,9 @@ ChildOutcome run_child(const ChildRequest& req, std::optional<double> timeout_s,
                        const std::atomic<int>& stop, double kill_grace_s);
 
 bool pid_alive(int pid);
+// When process pid started, in Unix seconds (from /proc: its start in clock ticks after boot and
+// the boot time; to about 1 s), or nullopt where /proc does not say.
+std::optional<double> process_start_time(int pid);
 // Last max_bytes of a file (from a line start when possible); "" when missing.
 std::string file_tail(const std::filesystem::path& path, std::size_t max_bytes);
 // "SIGSEGV (Segmentation fault)"

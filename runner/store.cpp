@@ -506,7 +506,7 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
 
 std::vector<StaleJob> Store::reset_stale(const std::string& host, int self_pid, double now,
                                          double stale_after_s,
-                                         const std::function<bool(int)>& pid_alive) {
+                                         const std::function<bool(int, double)>& owner_alive) {
   std::vector<StaleJob> out;
   WriteTx tx(db_);
   struct Row {
@@ -515,8 +515,10 @@ std::vector<StaleJob> Store::reset_stale(const std::string& host, int self_pid, 
   };
   std::vector<Row> stale;
   {
-    Stmt q = db_.prepare("SELECT id, key, owner_host, owner_pid, heartbeat_at FROM jobs WHERE "
-                         "state='running'");
+    Stmt q = db_.prepare(
+        "SELECT id, key, owner_host, owner_pid, heartbeat_at, (SELECT max(a.started_at) FROM "
+        "attempts a WHERE a.job_id = jobs.id AND a.state = 'running') FROM jobs WHERE "
+        "state='running'");
     while (q.step()) {
       std::string owner = q.text(2);
       int pid = static_cast<int>(q.integer(3));
@@ -524,7 +526,8 @@ std::vector<StaleJob> Store::reset_stale(const std::string& host, int self_pid, 
       if (owner == host) {
         // On this host the owner's pid decides, never its heartbeat: a runner stopped for a
         // while (Ctrl-Z, kill -STOP, a suspended laptop) still owns its jobs and their folders.
-        if (pid == self_pid || !pid_alive(pid))
+        const double claimed_at = q.is_null(5) ? now : q.real(5);
+        if (pid == self_pid || !owner_alive(pid, claimed_at))
           stale.push_back({q.integer(0), q.text(1), "abandoned: owner process gone (" + who + ")"});
       } else if (q.is_null(4) || now - q.real(4) > stale_after_s) {
         double age = q.is_null(4) ? -1 : now - q.real(4);

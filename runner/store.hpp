@@ -250,11 +250,12 @@ public:
   // back to zero bytes when no reader is using it). Errors are ignored: a checkpoint is tidying.
   void checkpoint_wal(bool truncate);
 
-  // Puts `running` jobs whose owner is gone back to pending (same host: the owner pid is dead;
-  // another host: a heartbeat older than stale_after_s); their attempt rows become `abandoned`.
+  // Puts `running` jobs whose owner is gone back to pending (same host: owner_alive(pid,
+  // claimed_at) says no, claimed_at the start of the running attempt; another host: a heartbeat
+  // older than stale_after_s); their attempt rows become `abandoned`.
   std::vector<StaleJob> reset_stale(const std::string& host, int self_pid, double now,
                                     double stale_after_s,
-                                    const std::function<bool(int)>& pid_alive);
+                                    const std::function<bool(int, double)>& owner_alive);
 
   // Atomically takes a pending job: returns the attempt number, or nullopt when the job is no
   // longer pending (another runner took it).

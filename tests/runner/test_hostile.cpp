@@ -140,6 +140,37 @@ n = [16, 32]
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM jobs WHERE state='done' AND attempts=1"), 2);
 }
 
+// A second runner started from a copy of the binary under another name (a stored baseline binary
+// for an A/B comparison, say) leaves a live runner's job alone: an owner on this host is
+// recognised by its pid and a start before its claim, not by the program's name. (Found when such
+// a copy abandoned a 20-minute 3D cavity job of a live runner, whose result was then lost.)
+TEST(Hostile, ARunnerOfAnotherNameLeavesALiveRunnersJobAlone) {
+  TempDir dir;
+  write_text(dir / "slow.toml", R"([study]
+name = "slow"
+case = "checkpoint_demo"
+[params]
+steps = 3000
+step_sleep_us = 1000
+)");
+  fs::copy_file(runner_exe(), dir / "baseline_runner_copy");
+  pid_t a = spawn_runner(dir.path(), {"slow.toml", "-j", "1"}, {}, dir / "a.log");
+  fs::path db = dir / "results" / "results.sqlite";
+  for (int i = 0; i < 100 && (!fs::exists(db) || sql_int(db, "SELECT count(*) FROM jobs WHERE "
+                                                             "state='running'") < 1);
+       ++i)
+    sleep_s(0.1);
+  ASSERT_EQ(sql_int(db, "SELECT count(*) FROM jobs WHERE state='running'"), 1);
+  const std::string cmd =
+      "cd '" + dir.path().string() +
+      "' && ./baseline_runner_copy slow.toml -j 1 --progress plain > b.log 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << read_file(dir / "b.log");
+  EXPECT_CONTAINS(read_file(dir / "b.log"), "1 running elsewhere, 0 to run");
+  EXPECT_EQ(wait_exit(a), 0) << read_file(dir / "a.log");
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts"), 1);
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM jobs WHERE state='done' AND attempts=1"), 1);
+}
+
 TEST(Hostile, TwoAttemptsNeverShareAnOutputFolder) {
   TempDir dir;
   write_text(dir / "s.toml", patch_study("locked", "8"));
@@ -589,7 +620,7 @@ TEST(Hostile, OnThisHostALiveOwnerKeepsItsJobWhateverItsHeartbeat) {
   // Both heartbeats 100 s old: this host's live owner keeps its job, another host's is taken.
   store.claim(r.jobs[0].id, {"hostA", 333, 1, "v", "c", now - 100, "fp"});
   store.claim(r.jobs[1].id, {"hostB", 333, 1, "v", "c", now - 100, "fp"});
-  auto stale = store.reset_stale("hostA", 999, now, 30, [](int pid) { return pid == 333; });
+  auto stale = store.reset_stale("hostA", 999, now, 30, [](int pid, double) { return pid == 333; });
   ASSERT_EQ(stale.size(), 1u);
   EXPECT_CONTAINS(stale[0].reason, "heartbeat stale");
   EXPECT_CONTAINS(stale[0].reason, "hostB");

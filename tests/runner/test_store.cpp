@@ -187,7 +187,7 @@ TEST(Store, StaleRunningJobsGoBackToPending) {
   store.claim(r.jobs[0].id, {"hostA", 111, 1, "v", "c", now});
   store.claim(r.jobs[1].id, {"hostB", 222, 1, "v", "c", now - 100});
   store.claim(r.jobs[2].id, {"hostA", 333, 1, "v", "c", now});
-  auto alive = [](int pid) { return pid == 333; };
+  auto alive = [](int pid, double) { return pid == 333; };
   auto stale = store.reset_stale("hostA", 999, now, 30, alive);
   ASSERT_EQ(stale.size(), 2u);
   EXPECT_EQ(state_of(store, r.jobs[0].id), "pending");
@@ -202,7 +202,7 @@ TEST(Store, StaleRunningJobsGoBackToPending) {
   // The next claim is attempt 2; the abandoned attempt row is kept.
   EXPECT_EQ(store.claim(r.jobs[0].id, starter()), 2);
   // Our own pid on this host cannot own anything at start: a previous runner with that pid died.
-  auto ours = store.reset_stale("hostA", 4242, unix_now(), 30, [](int) { return true; });
+  auto ours = store.reset_stale("hostA", 4242, unix_now(), 30, [](int, double) { return true; });
   EXPECT_EQ(ours.size(), 1u);
 }
 
