@@ -10,7 +10,8 @@
 # A refactoring that must not change behaviour brings every baseline row back with the same value
 # (exit 0; rows of metrics added since are listed, not failed); a changed or missing row is
 # printed and fails (exit 1). The baselines are tests/regression/baseline_quick.csv
-# and baseline_long.csv, captured on the code before the scheme-interface redesign (issue 14).
+# and baseline_long.csv, captured on the code before the scheme-interface redesign (issue 14); the
+# long_alsph rows at 94d3e27, the last commit before contact and alsph moved onto the shared loop.
 # Needs a Release build in build/ (scripts/build.sh; RUNNER= another binary). STUDIES="a b" limits
 # the run to those study files (studies/a.toml, or tests/regression/a.toml with --long; compare
 # then checks only the baseline rows of the study names they define).
