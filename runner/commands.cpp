@@ -268,10 +268,10 @@ std::string markdown_cell(const std::string& s) {
 
 int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::ostream& out) {
   static const std::map<std::string, std::string> aggs = {
-      {"mean", "avg"}, {"min", "min"}, {"max", "max"}, {"count", "count"}};
+      {"mean", "avg"}, {"min", "min"}, {"max", "max"}, {"count", "count"}, {"median", ""}};
   auto agg = aggs.find(t.agg);
   if (agg == aggs.end())
-    throw std::runtime_error("--agg must be mean, min, max or count");
+    throw std::runtime_error("--agg must be mean, median, min, max or count");
   if (t.format != "text" && t.format != "csv" && t.format != "markdown")
     throw std::runtime_error("--format must be text, csv or markdown");
   Store store = Store::open_read(db_path);
@@ -295,15 +295,67 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
   };
   std::map<Key, std::map<Key, std::string>> cells;
   std::set<Key> cols;
-  for (const PivotCell& p : store.pivot(sid, t.rows, t.cols, t.metric, agg->second, filter)) {
-    Key r = key(p.row), c = key(p.col);
+  auto put = [&](const Key& r, const Key& c, std::optional<double> v) {
     cols.insert(c);
     char buf[32];
-    if (!p.value)
+    if (!v)
       buf[0] = 0;
     else
-      std::snprintf(buf, sizeof buf, "%.6g", *p.value);
+      std::snprintf(buf, sizeof buf, "%.6g", *v);
     cells[r][c] = buf;
+  };
+  // The jobs of each cell: their count, the median, and the parameters that vary inside a cell
+  // (an aggregate over them is worth a note: one outlier seed can carry a mean).
+  std::map<Key, std::map<Key, std::vector<const PivotMember*>>> members;
+  const std::vector<PivotMember> all = store.pivot_members(sid, t.rows, t.cols, t.metric, filter);
+  for (const PivotMember& m : all)
+    members[key(m.row)][key(m.col)].push_back(&m);
+  if (t.agg == "median") {
+    for (auto& [r, row] : members)
+      for (auto& [c, ms] : row) {
+        std::vector<double> v;
+        for (const PivotMember* m : ms)
+          v.push_back(m->value);
+        std::sort(v.begin(), v.end());
+        const std::size_t n = v.size();
+        put(r, c, n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+      }
+  } else {
+    for (const PivotCell& p : store.pivot(sid, t.rows, t.cols, t.metric, agg->second, filter))
+      put(key(p.row), key(p.col), p.value);
+  }
+  std::string cell_note;
+  {
+    std::size_t lo = SIZE_MAX, hi = 0;
+    std::set<std::string> varying;
+    for (const auto& [r, row] : members)
+      for (const auto& [c, ms] : row) {
+        lo = std::min(lo, ms.size()), hi = std::max(hi, ms.size());
+        std::map<std::string, std::set<std::string>> values;
+        for (const PivotMember* m : ms) {
+          const auto j = nlohmann::json::parse(m->params, nullptr, false);
+          if (j.is_object())
+            for (const auto& [name, v] : j.items())
+              if (name != t.rows && name != t.cols)
+                values[name].insert(v.dump());
+        }
+        for (const auto& [name, vs] : values)
+          if (vs.size() > 1)
+            varying.insert(name);
+      }
+    if (hi > 1 && t.agg != "count") {
+      cell_note =
+          "note: each cell is the " + t.agg + " of " +
+          (lo == hi ? std::to_string(hi) : std::to_string(lo) + " to " + std::to_string(hi)) +
+          " jobs";
+      if (!varying.empty()) {
+        std::string names;
+        for (const auto& n : varying)
+          names += (names.empty() ? "" : ", ") + n;
+        cell_note += " that differ in " + names;
+      }
+      cell_note += " (--agg count shows how many, --agg median or --where pick)\n";
+    }
   }
   if (cells.empty()) {
     std::vector<std::string> names = store.metric_names(sid);
@@ -332,10 +384,10 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
   }
   // Stale results (made by other solver code) are shown, not hidden: a note under the table
   // (not in CSV, which stays a plain grid; `runner export` has a stale column).
-  std::string stale_note;
+  std::string stale_note = cell_note;
   if (std::size_t n = store.stale_in_study(sid, solver_fingerprint(), std::nullopt, true))
-    stale_note = "note: " + std::to_string(n) + " of the study's finished jobs are " +
-                 "stale (computed by other solver code than this build's; --rerun-stale)\n";
+    stale_note += "note: " + std::to_string(n) + " of the study's finished jobs are " +
+                  "stale (computed by other solver code than this build's; --rerun-stale)\n";
   if (t.format == "csv") {
     for (const auto& line : grid) {
       for (std::size_t i = 0; i < line.size(); ++i)

@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
   table->add_option("--rows", topt.rows, "Parameter for the rows")->required();
   table->add_option("--cols", topt.cols, "Parameter for the columns")->required();
   table->add_option("--value", topt.metric, "Metric")->required();
-  table->add_option("--agg", topt.agg, "mean, min, max or count")->capture_default_str();
+  table->add_option("--agg", topt.agg, "mean, median, min, max or count")->capture_default_str();
   table->add_option("--format", topt.format, "text, csv or markdown")->capture_default_str();
   table->add_option("--where", topt.where,
                     "Only jobs with this parameter value, KEY=VALUE (repeatable), e.g. "

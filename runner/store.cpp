@@ -1045,6 +1045,39 @@ std::vector<PivotCell> Store::pivot(std::int64_t study_id, const std::string& ro
   return out;
 }
 
+std::vector<PivotMember> Store::pivot_members(std::int64_t study_id, const std::string& rows,
+                                              const std::string& cols, const std::string& metric,
+                                              const JobFilter& filter) {
+  auto expr = [&](const std::string& p) {
+    return p == "scheme" ? std::string("j.scheme")
+                         : "(SELECT value FROM job_params WHERE job_id=j.id AND name='" +
+                               safe_param_name(p) + "')";
+  };
+  std::vector<WhereValue> binds;
+  std::string sel = selected_jobs(db_, study_id, filter, binds);
+  std::string scheme_cond;
+  for (const auto& sc : filter.schemes) {
+    scheme_cond += " AND j.scheme = ?";
+    binds.emplace_back(sc);
+  }
+  Stmt q = db_.prepare("SELECT " + expr(rows) + ", " + expr(cols) +
+                       ", m.value, j.params_json FROM (" + sel +
+                       ") sel CROSS JOIN jobs j CROSS JOIN metrics m "
+                       "WHERE j.id=sel.id AND m.job_id=sel.id AND m.name=? AND m.value IS NOT "
+                       "NULL" +
+                       scheme_cond + " ORDER BY 1, 2, j.id");
+  int i = 1;
+  for (std::size_t k = 0; k + filter.schemes.size() < binds.size(); ++k)
+    bind_value(q, i++, binds[k]);
+  q.bind(i++, metric);
+  for (std::size_t k = binds.size() - filter.schemes.size(); k < binds.size(); ++k)
+    bind_value(q, i++, binds[k]);
+  std::vector<PivotMember> out;
+  while (q.step())
+    out.push_back({sql_cell(q, 0), sql_cell(q, 1), q.real(2), q.text(3)});
+  return out;
+}
+
 namespace {
 
 bool only_space(const char* p) {

@@ -194,6 +194,14 @@ struct PivotCell {
   std::optional<double> value;
 };
 
+// One job of a pivot cell: its row and column values, the metric and its identity parameters
+// (jobs.params_json).
+struct PivotMember {
+  SqlCell row, col;
+  double value = 0.0;
+  std::string params;
+};
+
 struct SubmittedJob {
   std::int64_t id = 0;
   std::string key, slurm_job_id;
@@ -337,6 +345,11 @@ public:
                              const std::optional<std::string>& tier, bool current_only);
   // `runner table`: agg(metric) ("avg", "min", "max", "count") grouped by two parameters (or
   // "scheme") over the study's current jobs that pass the filter.
+  // The jobs behind pivot(): every selected job that has the metric, with its parameters (for a
+  // median, the count per cell and the parameters that vary inside a cell).
+  std::vector<PivotMember> pivot_members(std::int64_t study_id, const std::string& rows,
+                                         const std::string& cols, const std::string& metric,
+                                         const JobFilter& filter);
   std::vector<PivotCell> pivot(std::int64_t study_id, const std::string& rows,
                                const std::string& cols, const std::string& metric,
                                const std::string& agg, const JobFilter& filter);

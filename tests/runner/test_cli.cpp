@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 using namespace sph::runner;
 using namespace sph::runner::test;
 namespace fs = std::filesystem;
@@ -102,6 +104,44 @@ lattice = ["uniform", "disordered"]
   auto csv = run_runner(dir, "export lat --format csv");
   EXPECT_CONTAINS(csv.out, "job,status,scheme,");
   EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 9);
+}
+
+// Issue 16 part 5: a cell that aggregates several jobs says so, with the parameters they differ
+// in, and --agg median gives the middle value (one outlier seed cannot carry it).
+TEST(Table, CellsOfSeveralJobsAreNotedAndHaveAMedian) {
+  TempDir dir;
+  write_text(dir / "s.toml", R"([study]
+name = "seeds"
+case = "patch_test"
+[params]
+lattice = "disordered"
+[sweep]
+visc = ["visc01"]
+n_side = [8]
+seed = [1, 2, 3]
+)");
+  ASSERT_EQ(run_runner(dir, "s.toml").code, 0);
+  auto mean = run_runner(dir, "table seeds --rows n_side --cols visc --value err");
+  ASSERT_EQ(mean.code, 0) << mean.out;
+  EXPECT_CONTAINS(mean.out, "note: each cell is the mean of 3 jobs that differ in seed");
+  auto vals = run_runner(dir, "query --db results/results.sqlite \"SELECT printf('%.17g', value) "
+                              "FROM job_metrics WHERE metric = 'err' ORDER BY value\"");
+  std::vector<double> errs;
+  std::istringstream in(vals.out);
+  std::string line;
+  std::getline(in, line); // header
+  while (std::getline(in, line))
+    errs.push_back(std::stod(line));
+  ASSERT_EQ(errs.size(), 3u) << vals.out;
+  ASSERT_LT(errs[0], errs[1]);
+  auto median = run_runner(
+      dir, "table seeds --rows n_side --cols visc --value err --agg median --format csv");
+  ASSERT_EQ(median.code, 0) << median.out;
+  const std::string head = "n_side \\ visc,visc01\n8,";
+  ASSERT_EQ(median.out.rfind(head, 0), 0u) << median.out;
+  EXPECT_NEAR(std::stod(median.out.substr(head.size())), errs[1], 1e-5 * errs[1]) << median.out;
+  auto one = run_runner(dir, "table seeds --rows n_side --cols visc --value err --where seed=2");
+  EXPECT_EQ(one.out.find("note: each cell"), std::string::npos) << one.out;
 }
 
 TEST(Failures, AttemptsAreClassifiedAndKeptAcrossRetries) {
