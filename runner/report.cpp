@@ -290,6 +290,41 @@ std::vector<const Job*> finished_jobs_of(const FigureSpec& f, const std::vector<
   return jobs;
 }
 
+// Why a figure has no data, in the words of its declaration: no finished job at all, none with the
+// `where` values, none with its metrics, or none with its HDF5 file.
+std::string why_no_data(const FigureSpec& f, const std::vector<Job>& all, const std::string& tier) {
+  const std::string of_tier = tier.empty() ? "" : " of tier " + tier;
+  std::size_t finished = 0;
+  for (const auto& j : all)
+    finished += j.state != "pending" && j.state != "running" && j.state != "submitted";
+  if (finished == 0)
+    return "No data yet: no job" + of_tier + " has finished.";
+  const std::vector<const Job*> jobs = finished_jobs_of(f, all);
+  if (jobs.empty()) {
+    std::string w;
+    for (const auto& v : f.where) {
+      w += (w.empty() ? "" : " and ") + v.param + " = ";
+      for (std::size_t k = 0; k < v.values.size(); ++k)
+        w += (k ? " or " : "") + value_to_json(v.values[k]).dump();
+    }
+    return "No data: none of the " + std::to_string(finished) + " finished jobs" + of_tier +
+           " has " + w + ".";
+  }
+  if (f.kind == "series") {
+    std::size_t with_dir = 0;
+    for (const Job* j : jobs)
+      with_dir += !j->output_dir.empty();
+    return "No data: none of the " + std::to_string(jobs.size()) + " matching finished jobs" +
+           of_tier + " has readable datasets " + f.x + " and " + f.y.front() + " in " + f.file +
+           (with_dir ? "" : " (no job has an output folder)") + ".";
+  }
+  std::string ys;
+  for (const auto& y : f.y)
+    ys += (ys.empty() ? "" : ", ") + y;
+  return "No data: none of the " + std::to_string(jobs.size()) + " matching finished jobs" +
+         of_tier + " recorded " + ys + ".";
+}
+
 FigureReport build_metric_figure(const FigureSpec& f, const std::vector<Job>& all) {
   FigureReport r;
   r.data.spec = &f;
@@ -603,7 +638,7 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
       std::ofstream(out_dir / (f.name + ".csv")) << csv.str();
     }
     if (script.empty()) {
-      r.image_note = "No data yet for this figure.";
+      r.image_note = why_no_data(f, jobs, o.tier);
     } else if (!version) {
       r.image_note = "Not drawn: gnuplot is not installed.";
       std::ofstream(out_dir / (f.name + ".gp")) << script;

@@ -182,6 +182,18 @@ TEST(ReportE2E, InvalidFiguresAreRejectedWithTheirLine) {
 // A series figure reads each job's HDF5 output (here written by the test into the jobs' output
 // directories, as a time-dependent case would) and draws an analytic reference that uses a
 // parameter of the job.
+// Issue 16 part 5: a figure without data says why, in the words of its declaration.
+TEST(ReportE2E, AFigureWithoutDataSaysWhy) {
+  TempDir dir;
+  write_text(dir / "figs.toml", study("10, 11"));
+  ASSERT_EQ(run(dir, "figs.toml -j 2 --db r/db.sqlite").code, 0);
+  auto r = run(dir, "report figs.toml --db r/db.sqlite --out page");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string page = read_file(dir / "page" / "index.html");
+  // "small" keeps n_side 8 and 9, which this run does not have.
+  EXPECT_CONTAINS(page, "No data: none of the 4 finished jobs has n_side = 8 or 9.");
+}
+
 TEST(ReportE2E, SeriesFiguresReadTheJobsHdf5Outputs) {
   TempDir dir;
   std::string text = R"toml([study]
