@@ -241,19 +241,29 @@ void sample_references(const FigureSpec& f, FigureReport& r, const std::vector<c
     if (!uses_params) {
       instances.push_back({ref.label, nullptr});
     } else {
+      // One curve per distinct value of the parameters the expression uses (groups that share
+      // them share the curve, drawn once).
+      std::set<std::vector<json>, JsonVecLess> seen;
       for (std::size_t g = 0; g < r.groups.size(); ++g)
         for (const Job* j : jobs) {
           bool same = true;
           for (std::size_t k = 0; k < f.group.size(); ++k)
             same = same && param_of(*j, f.group[k]) == r.groups[g][k];
-          if (same) {
+          if (!same)
+            continue;
+          std::vector<json> used;
+          for (const auto& n : ref.expr->names())
+            if (n != "x")
+              used.push_back(param_of(*j, n));
+          if (seen.insert(used).second)
             instances.push_back(
                 {ref.label +
                      (f.group.empty() ? "" : " (" + group_label(f.group, r.groups[g]) + ")"),
                  j});
-            break;
-          }
+          break;
         }
+      if (instances.size() == 1)
+        instances.front().first = ref.label;
     }
     for (const auto& [label, job] : instances) {
       RefCurve rc{label, ref.style, {}};

@@ -125,11 +125,16 @@ std::string gnuplot_script(const FigureData& d, const std::string& image,
   s << "set output " << quote(image) << "\n";
   if (!f.title.empty())
     s << "set title " << quote(f.title) << "\n";
-  s << "set xlabel " << quote(f.x_label.empty() ? f.x : f.x_label) << "\n";
+  // Without a label, a dataset path (series figures: "profile_x0.5/ux") is named by its last part.
+  auto readable = [](const std::string& name) {
+    const auto slash = name.rfind('/');
+    return slash == std::string::npos ? name : name.substr(slash + 1);
+  };
+  s << "set xlabel " << quote(f.x_label.empty() ? readable(f.x) : f.x_label) << "\n";
   std::string ylabel = f.y_label;
   if (ylabel.empty())
     for (const auto& y : f.y)
-      ylabel += (ylabel.empty() ? "" : ", ") + y;
+      ylabel += (ylabel.empty() ? "" : ", ") + readable(y);
   s << "set ylabel " << quote(ylabel) << "\n";
   s << "set grid\nset key outside below center horizontal Left reverse samplen 3 width 2\n";
   if (f.log_x)

@@ -194,6 +194,30 @@ TEST(ReportE2E, AFigureWithoutDataSaysWhy) {
   EXPECT_CONTAINS(page, "No data: none of the 4 finished jobs has n_side = 8 or 9.");
 }
 
+// A reference whose expression uses a parameter that every group shares is one curve, not one per
+// group (issue 16 part 5).
+TEST(ReportE2E, AReferenceSharedByTheGroupsIsDrawnOnce) {
+  TempDir dir;
+  std::string toml = study("8, 9") + R"(
+[[figures]]
+name = "guide"
+x = "n_side"
+y = "err"
+group = ["visc"]
+[[figures.reference]]
+label = "guide"
+expr = "x^-2 * h_over_dx"
+)";
+  write_text(dir / "figs.toml", toml);
+  ASSERT_EQ(run(dir, "figs.toml -j 2 --db r/db.sqlite").code, 0);
+  auto r = run(dir, "report figs.toml --db r/db.sqlite --out page");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string gp = read_file(dir / "page" / "guide.gp");
+  EXPECT_EQ(count(gp, "$r0 << EOD"), 1u) << gp;
+  EXPECT_EQ(count(gp, "$r1 << EOD"), 0u) << gp;
+  EXPECT_CONTAINS(gp, "title 'guide'");
+}
+
 TEST(ReportE2E, SeriesFiguresReadTheJobsHdf5Outputs) {
   TempDir dir;
   std::string text = R"toml([study]
