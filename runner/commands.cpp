@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -369,14 +370,41 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
                : did_you_mean(t.metric, names) +
                      (names.empty() ? "" : "; metrics: " + quoted_list(names))));
   }
+  // Rows and columns in the order the study lists their values (the first job of each value in
+  // the study's expansion); values without a recorded job last, in their natural order.
+  std::map<Key, std::int64_t> row_first, col_first;
+  for (const PivotMember& m : all) {
+    auto first = [&](std::map<Key, std::int64_t>& f, const Key& k) {
+      auto [it, fresh] = f.emplace(k, m.ordinal);
+      if (!fresh)
+        it->second = std::min(it->second, m.ordinal);
+    };
+    first(row_first, key(m.row)), first(col_first, key(m.col));
+  }
+  auto in_study_order = [](std::vector<Key> keys, const std::map<Key, std::int64_t>& f) {
+    std::stable_sort(keys.begin(), keys.end(), [&](const Key& a, const Key& b) {
+      const auto ia = f.find(a), ib = f.find(b);
+      const std::int64_t oa = ia == f.end() ? INT64_MAX : ia->second;
+      const std::int64_t ob = ib == f.end() ? INT64_MAX : ib->second;
+      return oa < ob;
+    });
+    return keys;
+  };
+  std::vector<Key> row_keys;
+  for (const auto& [r, row] : cells)
+    row_keys.push_back(r);
+  row_keys = in_study_order(row_keys, row_first);
+  const std::vector<Key> col_keys =
+      in_study_order(std::vector<Key>(cols.begin(), cols.end()), col_first);
   std::vector<std::vector<std::string>> grid;
   std::vector<std::string> head{t.rows + " \\ " + t.cols};
-  for (const auto& c : cols)
+  for (const auto& c : col_keys)
     head.push_back(c.s);
   grid.push_back(head);
-  for (const auto& [r, row] : cells) {
+  for (const auto& r : row_keys) {
+    const auto& row = cells[r];
     std::vector<std::string> line{r.s};
-    for (const auto& c : cols) {
+    for (const auto& c : col_keys) {
       auto it = row.find(c);
       line.push_back(it == row.end() ? "" : it->second);
     }

@@ -1061,7 +1061,9 @@ std::vector<PivotMember> Store::pivot_members(std::int64_t study_id, const std::
     binds.emplace_back(sc);
   }
   Stmt q = db_.prepare("SELECT " + expr(rows) + ", " + expr(cols) +
-                       ", m.value, j.params_json FROM (" + sel +
+                       ", m.value, j.params_json, (SELECT min(ordinal) FROM study_jobs WHERE "
+                       "job_id=j.id AND study_id=" +
+                       std::to_string(study_id) + " AND current) FROM (" + sel +
                        ") sel CROSS JOIN jobs j CROSS JOIN metrics m "
                        "WHERE j.id=sel.id AND m.job_id=sel.id AND m.name=? AND m.value IS NOT "
                        "NULL" +
@@ -1074,7 +1076,8 @@ std::vector<PivotMember> Store::pivot_members(std::int64_t study_id, const std::
     bind_value(q, i++, binds[k]);
   std::vector<PivotMember> out;
   while (q.step())
-    out.push_back({sql_cell(q, 0), sql_cell(q, 1), q.real(2), q.text(3)});
+    out.push_back(
+        {sql_cell(q, 0), sql_cell(q, 1), q.real(2), q.text(3), q.is_null(4) ? 0 : q.integer(4)});
   return out;
 }
 

@@ -200,6 +200,7 @@ struct PivotMember {
   SqlCell row, col;
   double value = 0.0;
   std::string params;
+  std::int64_t ordinal = 0; // the job's place in the study's expansion (the order of its values)
 };
 
 struct SubmittedJob {

@@ -144,6 +144,25 @@ seed = [1, 2, 3]
   EXPECT_EQ(one.out.find("note: each cell"), std::string::npos) << one.out;
 }
 
+// Rows and columns come in the order the study lists their values, not sorted (issue 16 part 5).
+TEST(Table, RowsAndColumnsFollowTheStudysOrder) {
+  TempDir dir;
+  write_text(dir / "s.toml", R"([study]
+name = "order"
+case = "patch_test"
+[params]
+lattice = "uniform"
+[sweep]
+visc = ["visc04", "visc01"]
+n_side = [10, 8]
+)");
+  ASSERT_EQ(run_runner(dir, "s.toml").code, 0);
+  auto t = run_runner(dir, "table order --rows n_side --cols visc --value err --agg count "
+                           "--format csv");
+  ASSERT_EQ(t.code, 0) << t.out;
+  EXPECT_EQ(t.out, "n_side \\ visc,visc04,visc01\n10,1,1\n8,1,1\n");
+}
+
 TEST(Failures, AttemptsAreClassifiedAndKeptAcrossRetries) {
   TempDir dir;
   write_text(dir / "s.toml", R"([study]
