@@ -107,10 +107,9 @@ public:
     t_end_ = get_real(prm, "t_end");
     t_settle_ = get_real(prm, "settle_fraction") * t_end_;
     ramp_time_ = get_real(prm, "ramp_time");
-    const int nx = static_cast<int>(std::lround(get_real(prm, "channel_length") / dx_));
+    nx_ = static_cast<int>(std::lround(get_real(prm, "channel_length") / dx_));
     ny_ = static_cast<int>(std::lround(get_real(prm, "channel_height") / dx_));
-    nx_ = nx;
-    L_ = nx * dx_, H_ = ny_ * dx_;
+    L_ = nx_ * dx_, H_ = ny_ * dx_;
     c_ = V2(get_real(prm, "upstream_length"), 0.5 * H_);
     support_ = QuinticSpline<D>(h_).support();
     nb_ = static_cast<int>(std::ceil(6.0 * h_ / dx_ - 1e-9));
@@ -341,9 +340,11 @@ private:
   long settled_steps_ = 0;
   std::vector<double> cp_sum_;
 
-  std::array<std::vector<double>*, 6> series() const {
-    auto* self = const_cast<CylinderChannelCase*>(this);
-    return {&self->ts_, &self->cds_, &self->cls_, &self->divs_, &self->divmax_, &self->iters_};
+  std::array<const std::vector<double>*, 6> series() const {
+    return {&ts_, &cds_, &cls_, &divs_, &divmax_, &iters_};
+  }
+  std::array<std::vector<double>*, 6> series() {
+    return {&ts_, &cds_, &cls_, &divs_, &divmax_, &iters_};
   }
   double inflow_speed(double time) const {
     return time < ramp_time_ ? 0.5 * U * (1.0 - std::cos(std::numbers::pi * time / ramp_time_)) : U;
