@@ -1010,16 +1010,23 @@ std::string safe_param_name(const std::string& param) {
 
 } // namespace
 
-std::vector<PivotCell> Store::pivot(std::int64_t study_id, const std::string& rows,
-                                    const std::string& cols, const std::string& metric,
-                                    const std::string& agg, const JobFilter& filter) {
-  if (agg != "avg" && agg != "min" && agg != "max" && agg != "count")
-    throw std::runtime_error("bad aggregate '" + agg + "'");
-  auto expr = [&](const std::string& p) {
-    return p == "scheme" ? std::string("j.scheme")
-                         : "(SELECT value FROM job_params WHERE job_id=j.id AND name='" +
-                               safe_param_name(p) + "')";
-  };
+namespace {
+
+// SQL of a pivot row parameter (or "scheme") of job j.
+std::string pivot_param_expr(const std::string& p) {
+  return p == "scheme" ? std::string("j.scheme")
+                       : "(SELECT value FROM job_params WHERE job_id=j.id AND name='" +
+                             safe_param_name(p) + "')";
+}
+
+} // namespace
+
+// SELECT <columns> over the metric `metric` of the study's jobs passing the filter, <tail> after
+// the WHERE clause; prepared and bound. CROSS JOIN keeps SQLite's join order: the selected jobs
+// drive, the rest are look-ups.
+Stmt Store::prepare_pivot(std::int64_t study_id, const std::string& columns,
+                          const std::string& metric, const JobFilter& filter,
+                          const std::string& tail) {
   std::vector<WhereValue> binds;
   std::string sel = selected_jobs(db_, study_id, filter, binds);
   std::string scheme_cond;
@@ -1027,18 +1034,27 @@ std::vector<PivotCell> Store::pivot(std::int64_t study_id, const std::string& ro
     scheme_cond += " AND j.scheme = ?";
     binds.emplace_back(sc);
   }
-  // CROSS JOIN keeps SQLite's join order: the selected jobs drive, the rest are look-ups.
-  Stmt q = db_.prepare("SELECT " + expr(rows) + ", " + expr(cols) + ", " + agg +
-                       "(m.value) FROM (" + sel +
+  Stmt q = db_.prepare("SELECT " + columns + " FROM (" + sel +
                        ") sel CROSS JOIN jobs j CROSS JOIN metrics m "
                        "WHERE j.id=sel.id AND m.job_id=sel.id AND m.name=?" +
-                       scheme_cond + " GROUP BY 1, 2 ORDER BY 1, 2");
+                       scheme_cond + " " + tail);
   int i = 1;
   for (std::size_t k = 0; k + filter.schemes.size() < binds.size(); ++k)
     bind_value(q, i++, binds[k]);
   q.bind(i++, metric);
   for (std::size_t k = binds.size() - filter.schemes.size(); k < binds.size(); ++k)
     bind_value(q, i++, binds[k]);
+  return q;
+}
+
+std::vector<PivotCell> Store::pivot(std::int64_t study_id, const std::string& rows,
+                                    const std::string& cols, const std::string& metric,
+                                    const std::string& agg, const JobFilter& filter) {
+  if (agg != "avg" && agg != "min" && agg != "max" && agg != "count")
+    throw std::runtime_error("bad aggregate '" + agg + "'");
+  Stmt q = prepare_pivot(
+      study_id, pivot_param_expr(rows) + ", " + pivot_param_expr(cols) + ", " + agg + "(m.value)",
+      metric, filter, "GROUP BY 1, 2 ORDER BY 1, 2");
   std::vector<PivotCell> out;
   while (q.step())
     out.push_back({sql_cell(q, 0), sql_cell(q, 1), q.opt_real(2)});
@@ -1048,32 +1064,12 @@ std::vector<PivotCell> Store::pivot(std::int64_t study_id, const std::string& ro
 std::vector<PivotMember> Store::pivot_members(std::int64_t study_id, const std::string& rows,
                                               const std::string& cols, const std::string& metric,
                                               const JobFilter& filter) {
-  auto expr = [&](const std::string& p) {
-    return p == "scheme" ? std::string("j.scheme")
-                         : "(SELECT value FROM job_params WHERE job_id=j.id AND name='" +
-                               safe_param_name(p) + "')";
-  };
-  std::vector<WhereValue> binds;
-  std::string sel = selected_jobs(db_, study_id, filter, binds);
-  std::string scheme_cond;
-  for (const auto& sc : filter.schemes) {
-    scheme_cond += " AND j.scheme = ?";
-    binds.emplace_back(sc);
-  }
-  Stmt q = db_.prepare("SELECT " + expr(rows) + ", " + expr(cols) +
-                       ", m.value, j.params_json, (SELECT min(ordinal) FROM study_jobs WHERE "
-                       "job_id=j.id AND study_id=" +
-                       std::to_string(study_id) + " AND current) FROM (" + sel +
-                       ") sel CROSS JOIN jobs j CROSS JOIN metrics m "
-                       "WHERE j.id=sel.id AND m.job_id=sel.id AND m.name=? AND m.value IS NOT "
-                       "NULL" +
-                       scheme_cond + " ORDER BY 1, 2, j.id");
-  int i = 1;
-  for (std::size_t k = 0; k + filter.schemes.size() < binds.size(); ++k)
-    bind_value(q, i++, binds[k]);
-  q.bind(i++, metric);
-  for (std::size_t k = binds.size() - filter.schemes.size(); k < binds.size(); ++k)
-    bind_value(q, i++, binds[k]);
+  Stmt q = prepare_pivot(study_id,
+                         pivot_param_expr(rows) + ", " + pivot_param_expr(cols) +
+                             ", m.value, j.params_json, (SELECT min(ordinal) FROM study_jobs "
+                             "WHERE job_id=j.id AND study_id=" +
+                             std::to_string(study_id) + " AND current)",
+                         metric, filter, "AND m.value IS NOT NULL ORDER BY 1, 2, j.id");
   std::vector<PivotMember> out;
   while (q.step())
     out.push_back(

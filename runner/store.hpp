@@ -393,6 +393,8 @@ public:
                     const std::string& reason, double now);
 
 private:
+  Stmt prepare_pivot(std::int64_t study_id, const std::string& columns, const std::string& metric,
+                     const JobFilter& filter, const std::string& tail);
   Store(Db db, std::filesystem::path path) : db_(std::move(db)), path_(std::move(path)) {}
   void migrate();
   void record_attempt(std::int64_t job_id, int attempt, const Finish& f); // inside a transaction
