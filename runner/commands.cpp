@@ -1,4 +1,4 @@
-// Read-only commands over the store: query, status, cases, table, export.
+// Read-only commands over the store: query, status, cases, table, export, publish.
 #include "commands.hpp"
 
 #include "diagnostics.hpp"
@@ -13,8 +13,10 @@
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <variant>
 #include <vector>
@@ -555,6 +557,115 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
     }
     out << "," << (r.stale ? 1 : 0) << "\n";
   }
+  return 0;
+}
+
+namespace {
+
+// Splits one line of an RFC 4180 CSV file (no embedded line breaks) into its fields.
+std::vector<std::string> csv_split(const std::string& line) {
+  std::vector<std::string> f(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+        f.back() += '"', ++i;
+      else if (c == '"')
+        quoted = false;
+      else
+        f.back() += c;
+    } else if (c == '"')
+      quoted = true;
+    else if (c == ',')
+      f.emplace_back();
+    else
+      f.back() += c;
+  }
+  return f;
+}
+
+const char* publish_header = "study,job,tier,code_version,params,metric,value";
+
+} // namespace
+
+int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
+                const std::filesystem::path& out_file, std::ostream& log) {
+  // The rows already committed, grouped by job in file order.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<std::string>> old_rows;
+  if (std::ifstream in{out_file}) {
+    std::string line;
+    if (!std::getline(in, line) || line != publish_header)
+      throw std::runtime_error(out_file.string() + ": line 1: expected the header '" +
+                               publish_header + "'");
+    for (int n = 2; std::getline(in, line); ++n) {
+      const auto f = csv_split(line);
+      if (f.size() != 7 || f[0] != study)
+        throw std::runtime_error(out_file.string() + ": line " + std::to_string(n) +
+                                 ": expected 7 fields of study '" + study + "'");
+      if (!old_rows.count(f[1]))
+        order.push_back(f[1]);
+      old_rows[f[1]].push_back(line);
+    }
+  }
+  Store store = Store::open_read(db_path);
+  const std::int64_t sid = study_id(store, study);
+  const auto versions = store.metric_code_versions(sid);
+  std::map<std::int64_t, std::vector<const MetricValue*>> metrics;
+  const auto values = store.study_metrics(sid);
+  for (const MetricValue& m : values)
+    metrics[m.job_id].push_back(&m);
+  std::map<std::string, std::vector<std::string>> new_rows;
+  std::vector<std::string> new_order;
+  std::size_t stale = 0;
+  for (const StudyJob& j : store.study_jobs(sid, std::nullopt, false, solver_fingerprint())) {
+    if ((j.state != JobState::done && j.state != JobState::diverged) || !metrics.count(j.id))
+      continue;
+    std::string tiers;
+    for (const auto& t : j.tiers)
+      tiers += (tiers.empty() ? "" : ";") + t;
+    const auto v = versions.find(j.id);
+    const std::string prefix = csv_field(study) + "," + j.key + "," + csv_field(tiers) + "," +
+                               csv_field(v == versions.end() ? "" : v->second) + "," +
+                               csv_field(j.params_json) + ",";
+    auto& rows = new_rows[j.key];
+    for (const MetricValue* m : metrics[j.id])
+      rows.push_back(prefix + csv_field(m->name) + "," +
+                     (m->value ? format_real(*m->value) : std::string("nan")));
+    new_order.push_back(j.key);
+    stale += j.stale;
+  }
+  std::ostringstream text;
+  text << publish_header << "\n";
+  std::size_t kept = 0, replaced = 0, added = 0;
+  for (const auto& key : order) {
+    const auto it = new_rows.find(key);
+    const auto& rows = it == new_rows.end() ? old_rows[key] : it->second;
+    (it == new_rows.end() ? kept : replaced) += 1;
+    for (const auto& r : rows)
+      text << r << "\n";
+  }
+  for (const auto& key : new_order)
+    if (!old_rows.count(key)) {
+      ++added;
+      for (const auto& r : new_rows[key])
+        text << r << "\n";
+    }
+  const std::filesystem::path tmp = out_file.string() + ".tmp";
+  {
+    std::ofstream out{tmp, std::ios::trunc};
+    out << text.str();
+    if (!out.flush())
+      throw std::runtime_error("cannot write " + tmp.string());
+  }
+  std::filesystem::rename(tmp, out_file);
+  log << out_file.string() << ": " << added << " jobs added, " << replaced << " replaced, " << kept
+      << " kept from the file";
+  if (stale)
+    log << "; " << stale << " of the database's jobs are stale (made by other solver code than "
+        << "this build's; their code_version says which)";
+  log << "\n";
   return 0;
 }
 

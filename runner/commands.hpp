@@ -1,4 +1,4 @@
-// The read-only commands: query (SQL to CSV), status, cases, table (pivot) and export.
+// The read-only commands: query (SQL to CSV), status, cases, table (pivot), export and publish.
 // Each returns a process exit code and writes to the given streams.
 #pragma once
 
@@ -33,6 +33,13 @@ int cmd_table(const std::filesystem::path& db, const TableOptions& t, std::ostre
 // One row (csv) or object (json) per job of a study: key, state, scheme, parameters, metrics.
 int cmd_export(const std::filesystem::path& db, const std::string& study, const std::string& format,
                std::ostream& out);
+
+// The committed record of a study's runs (docs/results/<study>.csv, issue 15): one row per job and
+// metric, header `study,job,tier,code_version,params,metric,value`, of every done or diverged job
+// of the study in the database. Rows of jobs the file already holds and the database does not
+// (runs recorded from another database) are kept; a job in both is replaced. Prints a summary.
+int cmd_publish(const std::filesystem::path& db, const std::string& study,
+                const std::filesystem::path& out_file, std::ostream& log);
 
 // RFC 4180 field quoting.
 std::string csv_field(const std::string& s);

@@ -70,8 +70,8 @@ int main(int argc, char** argv) {
   // A positional study file and subcommands clash in CLI11: treat `runner STUDY.toml ...` as
   // `runner run STUDY.toml ...`.
   static const std::set<std::string> subcommands = {
-      "report", "run",    "job",    "query",      "status", "cases",  "table",    "one",
-      "export", "submit", "ingest", "slurm-task", "-h",     "--help", "--version"};
+      "report", "run",     "job",    "query",  "status",     "cases", "table",  "one",
+      "export", "publish", "submit", "ingest", "slurm-task", "-h",    "--help", "--version"};
   std::vector<std::string> args(argv, argv + argc);
   if (args.size() > 1 && !subcommands.count(args[1]))
     args.insert(args.begin() + 1, "run");
@@ -203,6 +203,14 @@ int main(int argc, char** argv) {
   exp->add_option("study", export_study)->required();
   exp->add_option("--format", export_format, "csv or json")->capture_default_str();
   exp->add_option("--db", db_export, "Database file")->capture_default_str();
+
+  std::string db_publish = default_db, publish_study, publish_out;
+  auto* publish = app.add_subcommand(
+      "publish", "Write the committed record of a study's runs: docs/results/STUDY.csv, one row "
+                 "per job and metric (rows of jobs not in this database are kept)");
+  publish->add_option("study", publish_study)->required();
+  publish->add_option("--out", publish_out, "CSV file (default: docs/results/STUDY.csv)");
+  publish->add_option("--db", db_publish, "Database file")->capture_default_str();
 
   ReportOptions report_opt;
   report_opt.db = default_db;
@@ -338,6 +346,10 @@ int main(int argc, char** argv) {
     }
     if (*exp)
       return cmd_export(db_export, export_study, export_format, std::cout);
+    if (*publish)
+      return cmd_publish(
+          db_publish, publish_study,
+          publish_out.empty() ? "docs/results/" + publish_study + ".csv" : publish_out, std::cout);
   } catch (const StudyError& e) {
     std::cerr << e.what() << "\n";
     return 2;

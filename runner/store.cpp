@@ -898,6 +898,17 @@ std::vector<MetricValue> Store::study_metrics(std::int64_t study_id) {
   return out;
 }
 
+std::map<std::int64_t, std::string> Store::metric_code_versions(std::int64_t study_id) {
+  Stmt q = db_.prepare("SELECT DISTINCT m.job_id, a.code_version FROM metrics m JOIN attempts a ON "
+                       "a.job_id=m.job_id AND a.attempt=m.attempt WHERE m.job_id IN (SELECT "
+                       "job_id FROM study_jobs WHERE study_id=?)");
+  q.bind(1, study_id);
+  std::map<std::int64_t, std::string> out;
+  while (q.step())
+    out[q.integer(0)] = q.text(1);
+  return out;
+}
+
 std::vector<std::string> Store::metric_names(std::int64_t study_id) {
   Stmt m = db_.prepare("SELECT DISTINCT m.name FROM metrics m JOIN study_jobs sj ON "
                        "sj.job_id=m.job_id WHERE sj.study_id=? ORDER BY 1");

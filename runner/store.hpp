@@ -336,6 +336,8 @@ public:
                                    bool current_only, const std::string& fingerprint);
   // The metrics of every job ever registered with a study, by job and then recording order.
   std::vector<MetricValue> study_metrics(std::int64_t study_id);
+  // The code version of the attempt that recorded each job's metrics (job id -> version).
+  std::map<std::int64_t, std::string> metric_code_versions(std::int64_t study_id);
   // Distinct metric names of a study's jobs.
   std::vector<std::string> metric_names(std::int64_t study_id);
   // Parameter names of a study's jobs; has_param: one of them.
