@@ -1,6 +1,7 @@
-// The viscous Laplacian chosen by the study's string (visc = "visc01".."visc04"), seed 001
+// The viscous Laplacian chosen by the study's string (visc = "visc01".."visc04", or "visc03t":
+// VISC-03 with the tensor reading of its factor H_bb^{-1} / kappa, see visc03.hpp), seed 001
 // section 3. Owns the work arrays the corrected forms need (Gamma, tr B, grad u), so a scheme calls
-//   lap.prepare(nl, V)     once per particle configuration (Gamma, tr B: VISC-03/04), then
+//   lap.prepare(nl, V)     once per particle configuration (Gamma, tr B: VISC-03/03t/04), then
 //   lap.apply(nl, V, u, out) for each field (every call after the first allocates nothing).
 #pragma once
 
@@ -16,10 +17,11 @@
 
 namespace sph {
 
-enum class ViscForm { Visc01, Visc02, Visc03, Visc04 };
+// In the order of visc_names(); new forms are appended so the existing names keep their values.
+enum class ViscForm { Visc01, Visc02, Visc03, Visc04, Visc03Tensor };
 
 inline const std::vector<std::string>& visc_names() {
-  static const std::vector<std::string> names{"visc01", "visc02", "visc03", "visc04"};
+  static const std::vector<std::string> names{"visc01", "visc02", "visc03", "visc04", "visc03t"};
   return names;
 }
 
@@ -40,10 +42,10 @@ public:
   ViscForm form() const { return form_; }
   const std::vector<Mat<D>>& gamma() const { return gamma_; }
 
-  // Per-configuration work: the correction matrix for VISC-03 and VISC-04.
+  // Per-configuration work: the correction matrix for VISC-03 (both readings) and VISC-04.
   template <class Select = AllParticles>
   void prepare(const NeighborList<D>& nl, const std::vector<double>& V, Select select = {}) {
-    if (form_ != ViscForm::Visc03 && form_ != ViscForm::Visc04)
+    if (form_ == ViscForm::Visc01 || form_ == ViscForm::Visc02)
       return;
     gamma_.resize(nl.num_particles());
     h_bb_.resize(nl.num_particles());
@@ -66,11 +68,14 @@ public:
       interact(nl, op, select);
       break;
     }
-    case ViscForm::Visc03: {
+    case ViscForm::Visc03:
+    case ViscForm::Visc03Tensor: {
       grad_u_.resize(u.size());
       CorrectedGradient<D, T> g{V, gamma_, u, grad_u_};
       interact(nl, g, select);
-      Visc03<D, T> op{V, u, grad_u_, h_bb_, eta2_, out};
+      const Visc03Reading reading =
+          form_ == ViscForm::Visc03Tensor ? Visc03Reading::Tensor : Visc03Reading::Scalar;
+      Visc03<D, T> op{V, u, grad_u_, h_bb_, gamma_, reading, eta2_, out};
       interact(nl, op, select);
       break;
     }
