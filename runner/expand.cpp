@@ -241,7 +241,7 @@ JobSpec make_job(const Study& study, Params params, const std::vector<ParamSpec>
   job.case_name = study.case_name;
   if (auto it = params.find(scheme_param); it != params.end())
     job.scheme = std::get<std::string>(it->second);
-  job.params_json = identity_params_json(specs, params).dump();
+  job.params_json = identity_params_text(specs, params);
   job.canonical = canonical_job_text(job.case_name, job.scheme, job.params_json, numerics_version);
   job.key = job_key(job.canonical);
   job.params = std::move(params);
