@@ -106,31 +106,34 @@ std::optional<double> estimate_job(const JobSpec& job, const CostSamples& sample
   return std::nullopt;
 }
 
-StudyEstimate estimate_jobs(const std::vector<const JobSpec*>& jobs, const CostSamples& samples) {
-  StudyEstimate e;
-  struct Group {
-    std::size_t n = 0;
-    std::string how;
-  };
-  std::map<std::string, Group> groups;
-  for (const JobSpec* j : jobs) {
-    Group& g = groups[j->case_name + "/" + (j->scheme.empty() ? "-" : j->scheme)];
-    ++g.n;
-    std::string how;
-    auto cost = estimate_job(*j, samples, &how);
-    if (g.how.empty() || cost)
-      g.how = how;
-    if (!cost) {
-      ++e.unknown;
-      continue;
-    }
-    ++e.estimated;
-    e.cpu_s += *cost;
-    e.longest_job_s = std::max(e.longest_job_s, *cost);
+void CostTally::add(const JobSpec& job) {
+  Group& g = groups_[job.case_name + "/" + (job.scheme.empty() ? "-" : job.scheme)];
+  ++g.n;
+  std::string how;
+  auto cost = estimate_job(job, samples_, &how);
+  if (g.how.empty() || cost)
+    g.how = how;
+  if (!cost) {
+    ++e_.unknown;
+    return;
   }
-  for (const auto& [cs, g] : groups)
+  ++e_.estimated;
+  e_.cpu_s += *cost;
+  e_.longest_job_s = std::max(e_.longest_job_s, *cost);
+}
+
+StudyEstimate CostTally::result() const {
+  StudyEstimate e = e_;
+  for (const auto& [cs, g] : groups_)
     e.basis.push_back(cs + ": " + std::to_string(g.n) + " job(s), " + g.how);
   return e;
+}
+
+StudyEstimate estimate_jobs(const std::vector<const JobSpec*>& jobs, const CostSamples& samples) {
+  CostTally t(samples);
+  for (const JobSpec* j : jobs)
+    t.add(*j);
+  return t.result();
 }
 
 std::string format_cost(double s, const char* unit) {

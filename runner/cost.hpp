@@ -47,9 +47,26 @@ using CostSamples = std::map<std::string, std::vector<CostSample>>;
 std::optional<double> estimate_job(const JobSpec& job, const CostSamples& samples,
                                    std::string* how = nullptr);
 
+// The estimate of a study's jobs, added one at a time (a stream of a million jobs is not held).
 // samples: the database's finished attempts by "case/scheme" (Store::cost_samples).
-StudyEstimate estimate_jobs(const std::vector<const JobSpec*>& jobs,
-                            const std::map<std::string, std::vector<CostSample>>& samples);
+class CostTally {
+public:
+  explicit CostTally(const CostSamples& samples) : samples_(samples) {}
+  void add(const JobSpec& job);
+  StudyEstimate result() const;
+
+private:
+  struct Group {
+    std::size_t n = 0;
+    std::string how;
+  };
+  const CostSamples& samples_;
+  StudyEstimate e_;
+  std::map<std::string, Group> groups_;
+};
+
+// The estimate of a list of jobs (a CostTally of each).
+StudyEstimate estimate_jobs(const std::vector<const JobSpec*>& jobs, const CostSamples& samples);
 
 // "7450 CPU hours" / "12 CPU minutes" / "40 CPU seconds".
 std::string format_cost(double seconds, const char* unit = "CPU");

@@ -69,7 +69,7 @@ private:
 };
 
 struct Task {
-  std::size_t index = 0; // in the expansion
+  std::string label, running_label; // label_of and running_label of its job
   std::int64_t job_id = 0;
   int attempt = 0;
   fs::path spec, result, log, progress, output_dir;
@@ -332,7 +332,43 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
   return f;
 }
 
-SweepStart start_sweep(Store& store, const Study& study, const Expansion& ex,
+Selection select_jobs(const Study& study_file, const RunOptions& opts) {
+  std::vector<Assignment> sets;
+  for (const auto& kv : opts.set)
+    sets.push_back(parse_assignment(study_file.specs, kv, "--set"));
+  Selection sel{study_file, opts.tier, opts.max_jobs, {}, {}};
+  for (const auto& kv : opts.where)
+    sel.where.push_back(parse_assignment(study_file.specs, kv, "--where"));
+  apply_overrides(sel.study, sets);
+  sel.label = opts.tier.empty() ? std::string(full_tier) : opts.tier;
+  if (!sets.empty())
+    sel.label += "+" + overrides_label(sets);
+  return sel;
+}
+
+Survey survey(const Selection& sel, const std::function<void(const JobSpec&)>& on_selected) {
+  Survey s;
+  JobStream jobs = sel.jobs();
+  JobSpec job;
+  while (jobs.next(job)) {
+    if (s.selected.empty())
+      s.first = job.params;
+    const bool yes = matches_where(job.params, sel.where);
+    s.selected.push_back(yes);
+    if (yes) {
+      ++s.n_selected;
+      if (on_selected)
+        on_selected(job);
+    }
+  }
+  s.summary = jobs.summary();
+  s.summary.tier = sel.label;
+  if (s.n_selected == 0 && !sel.where.empty())
+    fail_where(sel.jobs(), sel.where, sel.label);
+  return s;
+}
+
+SweepStart start_sweep(Store& store, const Study& study, const Selection& sel,
                        const SweepStartOptions& o, std::ostream& out) {
   SweepStart r;
   r.recovered = store.reset_stale(host_name(), static_cast<int>(getpid()), unix_now(),
@@ -340,95 +376,106 @@ SweepStart start_sweep(Store& store, const Study& study, const Expansion& ex,
   r.integrity = r.recovered.empty() ? "ok" : store.quick_check();
   if (store.count_in_state(JobState::submitted) > 0)
     r.ingested = ingest_slurm(store, out);
-  r.sync = store.register_expansion(study, ex, o.retry_failed, o.max_attempts, o.rerun_stale,
-                                    solver_fingerprint());
+  JobStream jobs = sel.jobs();
+  r.sync = store.register_expansion(study, sel.label, jobs, o.retry_failed, o.max_attempts,
+                                    o.rerun_stale, solver_fingerprint());
   for (const auto& row : r.sync.jobs)
     if (row.state == JobState::pending)
       r.todo.push_back(&row);
   return r;
 }
 
-SelectedExpansion expand_selected(const Study& study_file, const RunOptions& opts) {
-  std::vector<Assignment> sets, where;
-  for (const auto& kv : opts.set)
-    sets.push_back(parse_assignment(study_file.specs, kv, "--set"));
-  for (const auto& kv : opts.where)
-    where.push_back(parse_assignment(study_file.specs, kv, "--where"));
-  Study study = study_file;
-  apply_overrides(study, sets);
-  SelectedExpansion r{expand(study, opts.tier, opts.max_jobs), {}};
-  if (!sets.empty())
-    r.ex.tier += "+" + overrides_label(sets);
-  if (where.empty())
-    for (std::size_t i = 0; i < r.ex.jobs.size(); ++i)
-      r.selected.push_back(i);
-  else
-    r.selected = matching_jobs(r.ex, where);
-  return r;
-}
-
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err) {
-  SelectedExpansion sel = expand_selected(study, opts);
-  const Expansion& ex = sel.ex;
-  const bool filtered = sel.selected.size() != ex.jobs.size();
-  std::vector<bool> is_selected(ex.jobs.size(), false);
-  for (std::size_t i : sel.selected)
-    is_selected[i] = true;
+  const Selection sel = select_jobs(study, opts);
   std::string where_text;
   for (const auto& w : opts.where)
     where_text += " --where " + w;
-  const std::string tier = ex.tier;
+  const std::string& tier = sel.label;
   const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
 
   // The cost of what this run would run (new and pending jobs; failed ones with --retry-failed),
   // calibrated from the database's finished jobs: printed, and above an hour of wall time on this
   // machine the run needs --yes. In a real run a database the estimate cannot read is left to the
   // writer's checks below (its messages), the estimate then goes without calibration.
-  std::map<std::string, JobState> states;
-  std::map<std::string, std::vector<CostSample>> samples;
+  // One pass over the jobs (which also validates them all, before anything is written) looks up
+  // their states in batches and adds those to run to the estimate.
+  std::optional<Store> ro;
+  CostSamples samples;
+  auto unreadable = [&] {
+    if (opts.dry_run)
+      throw;
+    ro.reset();
+    samples.clear();
+  };
   {
-    std::vector<std::pair<std::string, std::string>> kinds;
-    for (std::size_t i : sel.selected) {
-      std::pair<std::string, std::string> k{ex.jobs[i].case_name, ex.jobs[i].scheme};
-      if (std::find(kinds.begin(), kinds.end(), k) == kinds.end())
-        kinds.push_back(k);
-    }
     std::error_code ec;
     if (fs::exists(opts.db_path, ec)) {
       try {
-        Store ro = Store::open_read(opts.db_path);
-        std::vector<std::string> keys;
-        for (const auto& j : ex.jobs)
-          keys.push_back(j.key);
-        states = ro.states_of(keys);
-        samples = ro.cost_samples(kinds);
+        ro.emplace(Store::open_read(opts.db_path));
+        std::vector<std::pair<std::string, std::string>> kinds;
+        for (const auto& scheme : study.info->schemes)
+          kinds.emplace_back(study.case_name, scheme);
+        if (kinds.empty())
+          kinds.emplace_back(study.case_name, "");
+        samples = ro->cost_samples(kinds);
       } catch (const std::exception&) {
-        if (opts.dry_run)
-          throw;
+        unreadable();
       }
     }
   }
-  std::vector<const JobSpec*> to_run;
-  for (std::size_t i : sel.selected) {
-    auto it = states.find(ex.jobs[i].key);
+  CostTally tally(samples);
+  std::size_t n_to_run = 0;
+  std::vector<std::optional<JobState>> listed; // --dry-run: each selected job's state
+  auto settle = [&](const JobSpec& j, std::optional<JobState> st) {
     const bool failing =
-        it != states.end() && (it->second == JobState::failed || it->second == JobState::diverged ||
-                               it->second == JobState::timeout);
-    if (it == states.end() || it->second == JobState::pending || (failing && opts.retry_failed))
-      to_run.push_back(&ex.jobs[i]);
-  }
-  const StudyEstimate cost = estimate_jobs(to_run, samples);
+        st == JobState::failed || st == JobState::diverged || st == JobState::timeout;
+    if (!st || st == JobState::pending || (failing && opts.retry_failed)) {
+      tally.add(j);
+      ++n_to_run;
+    }
+    if (opts.dry_run)
+      listed.push_back(st);
+  };
+  std::vector<JobSpec> batch;
+  auto settle_batch = [&] {
+    std::vector<std::string> keys;
+    for (const auto& j : batch)
+      keys.push_back(j.key);
+    std::map<std::string, JobState> states;
+    try {
+      if (ro)
+        states = ro->states_of(keys);
+    } catch (const std::exception&) {
+      unreadable();
+    }
+    for (const auto& j : batch) {
+      auto it = states.find(j.key);
+      settle(j, it == states.end() ? std::nullopt : std::optional<JobState>(it->second));
+    }
+    batch.clear();
+  };
+  const Survey sv = survey(sel, [&](const JobSpec& j) {
+    if (!ro)
+      return settle(j, std::nullopt);
+    batch.push_back(j);
+    if (batch.size() >= 4096)
+      settle_batch();
+  });
+  settle_batch();
+  ro.reset(); // the reader is done
+  const ExpansionSummary& ex = sv.summary;
+  const bool filtered = sv.n_selected != ex.size;
+  const StudyEstimate cost = tally.result();
   const std::size_t est_workers =
       std::min<std::size_t>(opts.jobs > 0 ? static_cast<std::size_t>(opts.jobs)
                                           : std::max(1u, std::thread::hardware_concurrency()),
-                            std::max<std::size_t>(to_run.size(), 1));
+                            std::max<std::size_t>(n_to_run, 1));
   auto print_estimate = [&] {
     if (cost.estimated == 0)
       return;
     out << "estimate: " << format_cost(cost.cpu_s) << " for " << cost.estimated << " of the "
-        << to_run.size() << " job(s) to run, about "
-        << format_cost(cost.wall_s(est_workers), "wall") << " on this machine with " << est_workers
-        << " at once";
+        << n_to_run << " job(s) to run, about " << format_cost(cost.wall_s(est_workers), "wall")
+        << " on this machine with " << est_workers << " at once";
     if (cost.unknown)
       out << " (" << cost.unknown << " job(s) without an estimate)";
     out << "\n";
@@ -437,25 +484,28 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   };
 
   if (opts.dry_run) {
-    out << title << ": " << ex.jobs.size() << " jobs (" << ex.combinations << " combinations, "
+    out << title << ": " << ex.size << " jobs (" << ex.combinations << " combinations, "
         << ex.excluded << " excluded, " << ex.duplicates << " duplicates collapsed)\n";
     if (filtered)
-      out << sel.selected.size() << " of them match" << where_text << " (listed below)\n";
-    if (!ex.jobs.empty()) {
+      out << sv.n_selected << " of them match" << where_text << " (listed below)\n";
+    if (ex.size) {
       std::string fixed;
-      const auto& first = ex.jobs.front();
-      for (const auto& [k, v] : first.params)
+      for (const auto& [k, v] : sv.first)
         if (std::find(ex.varying.begin(), ex.varying.end(), k) == ex.varying.end())
           fixed += " " + k + "=" + format_value_plain(v);
       out << "fixed:" << fixed << "\n";
     }
+    // A second pass lists the selected jobs.
     std::string lines;
-    for (std::size_t i : sel.selected) {
-      const JobSpec& j = ex.jobs[i];
-      auto it = states.find(j.key);
-      char st[16];
-      std::snprintf(st, sizeof st, "%-8s", it == states.end() ? "new" : to_string(it->second));
-      lines += st;
+    JobStream jobs = sel.jobs();
+    JobSpec j;
+    for (std::size_t ordinal = 0, k = 0; jobs.next(j); ++ordinal) {
+      if (!sv.selected[ordinal])
+        continue;
+      const auto& st = listed[k++];
+      char buf[16];
+      std::snprintf(buf, sizeof buf, "%-8s", st ? to_string(*st) : "new");
+      lines += buf;
       lines += ' ';
       lines += label_of(j, ex.varying);
       lines += '\n';
@@ -498,7 +548,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   SweepStart front;
   try {
     front = start_sweep(
-        store, study, ex,
+        store, study, sel,
         {opts.retry_failed, opts.max_attempts, opts.rerun_stale, opts.stale_after_s}, out);
     store.checkpoint_wal(false);
   } catch (const SqliteError& e) {
@@ -520,7 +570,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   const SyncReport& sync = front.sync;
   std::vector<const JobRow*> todo;
   for (const JobRow* row : front.todo)
-    if (is_selected[row->ordinal])
+    if (sv.selected[row->ordinal])
       todo.push_back(row);
   const std::size_t stale_requeued = sync.stale_requeued, stale_kept = sync.stale_kept;
 
@@ -530,7 +580,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   auto count = [&](JobState s) { return counts.count(s) ? counts[s] : std::size_t(0); };
   std::size_t failing =
       count(JobState::failed) + count(JobState::timeout) + count(JobState::diverged);
-  out << title << ": " << ex.jobs.size() << " jobs: " << count(JobState::done) << " done already, ";
+  out << title << ": " << ex.size << " jobs: " << count(JobState::done) << " done already, ";
   if (failing && !opts.retry_failed)
     out << failing << " failed/diverged/timed out (not retried; use --retry-failed), ";
   if (count(JobState::running))
@@ -539,7 +589,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   if (sync.inserted)
     out << " (" << sync.inserted << " new)";
   if (filtered)
-    out << "; only the " << sel.selected.size() << " job(s) matching" << where_text
+    out << "; only the " << sv.n_selected << " job(s) matching" << where_text
         << " run, the others stay as they are";
   out << "\n";
   if (stale_kept)
@@ -635,20 +685,22 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       AttemptStart start{host,          pid, opts.threads_per_job, code_version(),
                          compiler_id(), 0,   fingerprint,          std::nullopt};
       std::size_t next = 0;
+      JobCursor cursor(sel.jobs()); // the to-do list is in expansion order
       auto last_heartbeat = std::chrono::steady_clock::now();
       auto last_checkpoint = last_heartbeat;
 
       for (;;) {
         while (g_stop.load() == 0 && running.size() < n_workers && next < todo.size()) {
           const JobRow& row = *todo[next++];
+          const JobSpec& job = cursor.at(row.ordinal);
           start.started_at = unix_now();
-          start.predicted_cpu_s = estimate_job(ex.jobs[row.ordinal], samples);
+          start.predicted_cpu_s = estimate_job(job, samples);
           auto attempt = store.claim(row.id, start);
           if (!attempt)
             continue; // another runner took it
-          const JobSpec& job = ex.jobs[row.ordinal];
           Task t;
-          t.index = row.ordinal;
+          t.label = label_of(job, ex.varying);
+          t.running_label = running_label(job, ex.varying);
           t.job_id = row.id;
           t.attempt = *attempt;
           std::string stem = job.key + "." + std::to_string(*attempt);
@@ -697,8 +749,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             f.finished_at = unix_now();
             f.error_text = std::string("cannot prepare the job: ") + e.what();
             store.finish(row.id, *attempt, host, pid, f);
-            progress.finished("failed", label_of(job, ex.varying), f.error_text);
-            failures.push_back(label_of(job, ex.varying) + ": " + f.error_text);
+            progress.finished("failed", t.label, f.error_text);
+            failures.push_back(t.label + ": " + f.error_text);
             continue;
           }
           running.emplace(row.id, t);
@@ -709,8 +761,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           break;
 
         for (Outcome& o : ch.wait_outcomes(std::chrono::milliseconds(100))) {
-          const JobSpec& job = ex.jobs[o.task.index];
-          std::string label = label_of(job, ex.varying);
+          const std::string& label = o.task.label;
           std::error_code ec;
           bool cancelled_result = false;
           if (g_stop.load() > 0 && o.child.stopped) {
@@ -753,7 +804,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
             }
             if (!store.finish(o.task.job_id, o.task.attempt, host, pid, f)) {
               ++lost;
-              err << "warning: job " << job.key.substr(0, 12)
+              err << "warning: job " << o.task.record.key.substr(0, 12)
                   << " was taken over by another runner; its result was discarded\n";
             }
             ++ran;
@@ -782,7 +833,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           std::vector<std::pair<std::string, double>> fr;
           for (const auto& [id, t] : running)
             if (auto x = read_progress(t.progress))
-              fr.emplace_back(running_label(ex.jobs[t.index], ex.varying), *x);
+              fr.emplace_back(t.running_label, *x);
           progress.set_fractions(std::move(fr));
         }
         progress.tick();
@@ -837,7 +888,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   }
   double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  out << title << ": " << ex.jobs.size() << " jobs:";
+  out << title << ": " << ex.size << " jobs:";
   bool first = true;
   for (JobState s : {JobState::done, JobState::diverged, JobState::failed, JobState::timeout,
                      JobState::running, JobState::pending})

@@ -1,6 +1,7 @@
-// Runs a study: expands it, registers its jobs in the store, recovers jobs abandoned by dead
-// runners, then runs the pending ones on a pool of workers, each job in a child process
-// (`runner job`), and records every outcome in one transaction per job.
+// Runs a study: expands it (a stream, in passes: the expansion is never held whole), registers its
+// jobs in the store, recovers jobs abandoned by dead runners, then runs the pending ones on a pool
+// of workers, each job in a child process (`runner job`), and records every outcome in one
+// transaction per job.
 #pragma once
 
 #include "expand.hpp"
@@ -9,6 +10,7 @@
 #include "study.hpp"
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -54,9 +56,35 @@ struct Finish;
 struct ChildOutcome;
 class Store;
 
-// The front half `run` and `submit` share: expand -> register -> to-do. Jobs left running by
-// dead runners go back to pending, finished Slurm results are ingested (when jobs are submitted),
-// the study's expansion is registered (sync_study: new jobs pending, --retry-failed,
+// The jobs `run` and `submit` run: the study with --set applied, the tier (registered under
+// "<tier>+KEY=VALUE,..." with --set) and the --where filters. Each pass over its jobs is a new
+// JobStream; none holds the expansion. Bad --set/--where input is a StudyError naming the key and
+// what it expects.
+struct Selection {
+  Study study; // --set applied
+  std::string tier;
+  std::size_t max_jobs = default_max_jobs;
+  std::vector<Assignment> where;
+  std::string label; // the tier's name as registered
+  JobStream jobs() const { return JobStream(study, tier, max_jobs); }
+};
+Selection select_jobs(const Study& study, const RunOptions& opts);
+
+// What a pass over a selection tells before anything is written: the expansion's counts (its tier
+// the registered label), which jobs --where selects (by ordinal, the index in the expansion) and
+// the first job's parameters. Invalid jobs, then a --where that matches none, are thrown
+// (StudyError) at its end; on_selected sees each selected job on the way.
+struct Survey {
+  ExpansionSummary summary;
+  std::vector<bool> selected;
+  std::size_t n_selected = 0;
+  Params first;
+};
+Survey survey(const Selection& sel, const std::function<void(const JobSpec&)>& on_selected = {});
+
+// The front half `run` and `submit` share: register -> to-do. Jobs left running by dead runners
+// go back to pending, finished Slurm results are ingested (when jobs are submitted), the
+// selection's jobs are registered as they are expanded (sync: new jobs pending, --retry-failed,
 // --rerun-stale) and its pending jobs, in expansion order, are the to-do list.
 struct SweepStart {
   std::vector<StaleJob> recovered; // running jobs whose owner was gone, now pending
@@ -71,7 +99,7 @@ struct SweepStartOptions {
   bool rerun_stale = false;
   double stale_after_s = 30;
 };
-SweepStart start_sweep(Store& store, const Study& study, const Expansion& ex,
+SweepStart start_sweep(Store& store, const Study& study, const Selection& sel,
                        const SweepStartOptions& o, std::ostream& out);
 
 // The record of an attempt from how its job process ended, its result file (may be missing) and
@@ -83,14 +111,5 @@ Finish outcome_to_finish(const ChildOutcome& c, const std::filesystem::path& res
 // 1 otherwise, 128+signal when interrupted. Study errors are thrown as StudyError before anything
 // is written.
 int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std::ostream& err);
-
-// The expansion run_study runs: --set applied, the tier named after the overrides, and the
-// indexes of the jobs --where selects (all of them without --where). Bad --set/--where input is a
-// StudyError naming the key and what it expects.
-struct SelectedExpansion {
-  Expansion ex;
-  std::vector<std::size_t> selected;
-};
-SelectedExpansion expand_selected(const Study& study, const RunOptions& opts);
 
 } // namespace sph::runner

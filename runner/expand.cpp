@@ -7,12 +7,16 @@
 #include "params.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
+#include <stdexcept>
 #include <unordered_set>
 
 namespace sph::runner {
@@ -241,7 +245,7 @@ JobSpec make_job(const Study& study, Params params, const std::vector<ParamSpec>
   job.case_name = study.case_name;
   if (auto it = params.find(scheme_param); it != params.end())
     job.scheme = std::get<std::string>(it->second);
-  job.params_json = identity_params_json(specs, params).dump();
+  job.params_json = identity_params_text(specs, params);
   job.canonical = canonical_job_text(job.case_name, job.scheme, job.params_json, numerics_version);
   job.key = job_key(job.canonical);
   job.params = std::move(params);
@@ -255,10 +259,67 @@ JobSpec make_job(const Study& study, Params params) {
   return make_job(study, std::move(params), job_specs(*study.info, scheme));
 }
 
-Expansion expand(const Study& study, const std::string& tier_name, std::size_t max_jobs) {
-  Diagnostics diag(study.file);
-  Expansion out;
+namespace {
+
+// A job key in binary: the 32 bytes its 64 hex digits spell (the set of keys met holds these).
+using BinaryKey = std::array<unsigned char, 32>;
+
+BinaryKey binary_key(const std::string& hex) {
+  auto nibble = [](char c) {
+    return static_cast<unsigned char>(c <= '9' ? c - '0' : c - 'a' + 10);
+  };
+  BinaryKey k{};
+  for (std::size_t i = 0; i < k.size(); ++i)
+    k[i] = static_cast<unsigned char>(nibble(hex[2 * i]) << 4 | nibble(hex[2 * i + 1]));
+  return k;
+}
+
+// The bytes of a SHA-256 are uniformly distributed: the first eight are a hash.
+struct BinaryKeyHash {
+  std::size_t operator()(const BinaryKey& k) const noexcept {
+    std::size_t h;
+    std::memcpy(&h, k.data(), sizeof h);
+    return h;
+  }
+};
+
+} // namespace
+
+struct JobStream::Impl {
+  // A point of a dimension of the product: the values it assigns.
+  using Point = std::vector<std::pair<const std::string*, const ParamValue*>>;
+
+  const Study& study;
+  const CaseInfo& info;
+  Diagnostics diag;
+  Expander ex;
   const Tier* tier = nullptr;
+  Definition def;
+  std::vector<const Derived*> derived;
+  Params fixed;                      // explicit values shared by every job
+  std::map<std::string, int> set_at; // the line where each parameter is set
+  std::vector<std::vector<Point>> dims;
+  std::map<std::string, std::vector<ParamSpec>> specs_by_scheme;
+  std::map<std::string, Params> defaults_by_scheme;
+  std::unordered_set<BinaryKey, BinaryKeyHash> keys;
+  std::vector<std::size_t> idx; // the odometer over dims: the next combination
+  std::size_t n = 0;            // its index
+  std::size_t next_case = 0;
+  bool done = false;
+  ExpansionSummary sum;
+  std::optional<Params> first;     // the first job's parameters
+  std::vector<bool> first_varies;  // which of them differ in a later job (in the map's order)
+  std::set<std::string> only_some; // parameters the first job does not have
+
+  Impl(const Study& s, const std::string& tier_name, std::size_t max_jobs);
+  const std::vector<ParamSpec>& specs_of(const std::string& scheme);
+  std::optional<Params> build(const Params& given, int origin_line);
+  bool keep(Params p, JobSpec& job);
+  bool next(JobSpec& job);
+};
+
+JobStream::Impl::Impl(const Study& s, const std::string& tier_name, std::size_t max_jobs)
+    : study(s), info(*s.info), diag(s.file), ex(s, diag) {
   if (!tier_name.empty() && tier_name != full_tier) {
     tier = study.find_tier(tier_name);
     if (!tier) {
@@ -269,16 +330,13 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
       diag.throw_if_any();
     }
   }
-  out.tier = tier ? tier->name : full_tier;
-  Definition def = apply_tier(study, tier, diag);
-  auto derived = derived_order(study, diag);
+  sum.tier = tier ? tier->name : full_tier;
+  def = apply_tier(study, tier, diag);
+  derived = derived_order(study, diag);
   diag.throw_if_any();
 
-  // Explicit values shared by every job, and the line where each parameter is set.
-  Params fixed;
   for (const auto& a : def.params)
     fixed[a.name] = a.value;
-  std::map<std::string, int> set_at;
   for (const auto& a : def.params)
     set_at.emplace(a.name, a.line);
   for (const auto& a : def.sweep)
@@ -290,9 +348,7 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
     for (const auto& a : c.overrides)
       set_at.emplace(a.name, a.line);
 
-  // Dimensions of the product: each a list of points, each point a list of assignments.
-  using Point = std::vector<std::pair<const std::string*, const ParamValue*>>;
-  std::vector<std::vector<Point>> dims;
+  // Dimensions of the product: each a list of points.
   for (const auto& ax : def.sweep) {
     std::vector<Point> pts;
     for (const auto& v : ax.values)
@@ -306,72 +362,6 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
         pts[i].push_back({&a.name, &a.values[i]});
     dims.push_back(std::move(pts));
   }
-
-  Expander ex(study, diag);
-  std::map<std::string, std::vector<ParamSpec>> specs_by_scheme;
-  std::map<std::string, Params> defaults_by_scheme;
-  const CaseInfo& info = *study.info;
-  // A job's full parameter set from its explicit values: its scheme's specs, defaults, derived.
-  auto build = [&](const Params& given, int origin_line) -> std::optional<Params> {
-    std::string scheme;
-    if (!info.schemes.empty()) {
-      auto it = given.find(scheme_param);
-      scheme = it == given.end() ? info.schemes.front() : std::get<std::string>(it->second);
-    }
-    auto [sit, fresh] = specs_by_scheme.try_emplace(scheme);
-    if (fresh)
-      sit->second = job_specs(info, scheme);
-    const auto& specs = sit->second;
-    for (const auto& [k, v] : given)
-      if (!find_spec(specs, k)) {
-        auto at = set_at.find(k);
-        ex.report(at == set_at.end() ? origin_line : at->second,
-                  "'" + k + "' is a parameter of scheme '" + scheme_owning(info, k) +
-                      "', not of scheme '" + scheme +
-                      "' that some jobs use; set it per scheme with [[zip]] or [[cases]]");
-        return std::nullopt;
-      }
-    auto [dit, fresh_defaults] = defaults_by_scheme.try_emplace(scheme);
-    if (fresh_defaults)
-      for (const auto& sp : specs)
-        dit->second[sp.name] = sp.default_value;
-    Params p = dit->second;
-    for (const auto& [k, v] : given)
-      p[k] = v;
-    if (!ex.resolve(p, derived, specs, scheme))
-      return std::nullopt;
-    if (info.check)
-      if (auto bad = info.check(p)) {
-        // Name the line of a parameter the case's message mentions (dx in "1/dx must be...").
-        int line = origin_line;
-        for (const auto& [name, at] : set_at)
-          if (mentions(*bad, name)) {
-            line = at;
-            break;
-          }
-        ex.report(line, "case '" + info.name + "'" +
-                            (scheme.empty() ? std::string() : " (scheme '" + scheme + "')") + ": " +
-                            *bad);
-        return std::nullopt;
-      }
-    return p;
-  };
-
-  std::unordered_set<std::string> keys;
-  auto add = [&](Params p) {
-    std::string scheme;
-    if (auto it = p.find(scheme_param); it != p.end())
-      scheme = std::get<std::string>(it->second);
-    auto [sit, fresh] = specs_by_scheme.try_emplace(scheme);
-    if (fresh)
-      sit->second = job_specs(info, scheme);
-    JobSpec job = make_job(study, std::move(p), sit->second);
-    if (!keys.insert(job.key).second) {
-      ++out.duplicates;
-      return;
-    }
-    out.jobs.push_back(std::move(job));
-  };
 
   // With no axes the product is the single base job, unless explicit cases replace it. Counted
   // before anything is expanded (in long double: 1e18 jobs must not wrap around).
@@ -407,16 +397,106 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
   }
   for (const auto& d : dims)
     total *= d.size();
-  out.combinations = total;
-  out.jobs.reserve(total + def.cases.size());
+  sum.combinations = total;
   keys.reserve(total + def.cases.size());
-  std::vector<std::size_t> idx(dims.size(), 0);
-  for (std::size_t n = 0; n < total && diag.size() < 25; ++n) {
+  idx.assign(dims.size(), 0);
+}
+
+const std::vector<ParamSpec>& JobStream::Impl::specs_of(const std::string& scheme) {
+  auto [it, fresh] = specs_by_scheme.try_emplace(scheme);
+  if (fresh)
+    it->second = job_specs(info, scheme);
+  return it->second;
+}
+
+// A job's full parameter set from its explicit values: its scheme's specs, defaults, derived.
+std::optional<Params> JobStream::Impl::build(const Params& given, int origin_line) {
+  std::string scheme;
+  if (!info.schemes.empty()) {
+    auto it = given.find(scheme_param);
+    scheme = it == given.end() ? info.schemes.front() : std::get<std::string>(it->second);
+  }
+  const auto& specs = specs_of(scheme);
+  for (const auto& [k, v] : given)
+    if (!find_spec(specs, k)) {
+      auto at = set_at.find(k);
+      ex.report(at == set_at.end() ? origin_line : at->second,
+                "'" + k + "' is a parameter of scheme '" + scheme_owning(info, k) +
+                    "', not of scheme '" + scheme +
+                    "' that some jobs use; set it per scheme with [[zip]] or [[cases]]");
+      return std::nullopt;
+    }
+  auto [dit, fresh_defaults] = defaults_by_scheme.try_emplace(scheme);
+  if (fresh_defaults)
+    for (const auto& sp : specs)
+      dit->second[sp.name] = sp.default_value;
+  Params p = dit->second;
+  for (const auto& [k, v] : given)
+    p[k] = v;
+  if (!ex.resolve(p, derived, specs, scheme))
+    return std::nullopt;
+  if (info.check)
+    if (auto bad = info.check(p)) {
+      // Name the line of a parameter the case's message mentions (dx in "1/dx must be...").
+      int line = origin_line;
+      for (const auto& [name, at] : set_at)
+        if (mentions(*bad, name)) {
+          line = at;
+          break;
+        }
+      ex.report(line, "case '" + info.name + "'" +
+                          (scheme.empty() ? std::string() : " (scheme '" + scheme + "')") + ": " +
+                          *bad);
+      return std::nullopt;
+    }
+  return p;
+}
+
+// Keys the job; false when its key was met before (a duplicate, collapsed).
+bool JobStream::Impl::keep(Params p, JobSpec& job) {
+  std::string scheme;
+  if (auto it = p.find(scheme_param); it != p.end())
+    scheme = std::get<std::string>(it->second);
+  JobSpec j = make_job(study, std::move(p), specs_of(scheme));
+  if (!keys.insert(binary_key(j.key)).second) {
+    ++sum.duplicates;
+    return false;
+  }
+  // Parameters that differ between jobs (or exist only for some): both maps are sorted by name,
+  // walked together.
+  if (!first) {
+    first = j.params;
+    first_varies.assign(first->size(), false);
+  } else {
+    auto a = first->begin();
+    auto b = j.params.begin();
+    for (std::size_t pos = 0; a != first->end() || b != j.params.end();) {
+      const int c = a == first->end() ? 1 : b == j.params.end() ? -1 : a->first.compare(b->first);
+      if (c < 0) {
+        first_varies[pos++] = true; // not in this job
+        ++a;
+      } else if (c > 0) {
+        only_some.insert((b++)->first); // not in the first job
+      } else {
+        if (!first_varies[pos] && !(a->second == b->second))
+          first_varies[pos] = true;
+        ++pos, ++a, ++b;
+      }
+    }
+  }
+  ++sum.size;
+  job = std::move(j);
+  return true;
+}
+
+bool JobStream::Impl::next(JobSpec& job) {
+  while (n < sum.combinations && diag.size() < 25) {
     Params given = fixed;
     for (std::size_t k = 0; k < dims.size(); ++k)
       for (const auto& [name, value] : dims[k][idx[k]])
         given[*name] = *value;
     // Advance the odometer: the last dimension varies fastest.
+    ++n;
     for (std::size_t k = dims.size(); k-- > 0;) {
       if (++idx[k] < dims[k].size())
         break;
@@ -429,36 +509,77 @@ Expansion expand(const Study& study, const std::string& tier_name, std::size_t m
     for (const auto& e : def.exclude)
       drop = drop || matches(*p, e);
     if (drop) {
-      ++out.excluded;
+      ++sum.excluded;
       continue;
     }
-    add(std::move(*p));
+    if (keep(std::move(*p), job))
+      return true;
   }
-  for (const auto& c : def.cases) {
+  while (next_case < def.cases.size()) {
+    const auto& c = def.cases[next_case++];
     Params given = fixed;
     for (const auto& a : c.overrides)
       given[a.name] = a.value;
     if (auto p = build(given, c.line))
-      add(std::move(*p));
+      if (keep(std::move(*p), job))
+        return true;
   }
-  diag.throw_if_any();
-
-  // Parameters that differ between jobs (or exist only for some), in spec order.
-  if (!out.jobs.empty()) {
-    const auto& first = out.jobs.front().params;
-    for (const auto& sp : study.specs) {
-      auto f = first.find(sp.name);
-      for (const auto& j : out.jobs) {
-        auto it = j.params.find(sp.name);
-        bool same = (it == j.params.end()) == (f == first.end()) &&
-                    (it == j.params.end() || it->second == f->second);
-        if (!same) {
-          out.varying.push_back(sp.name);
-          break;
-        }
-      }
+  if (!done) {
+    done = true;
+    diag.throw_if_any();
+    std::set<std::string> varying = only_some;
+    if (first) {
+      std::size_t pos = 0;
+      for (const auto& [name, value] : *first)
+        if (first_varies[pos++])
+          varying.insert(name);
     }
+    for (const auto& sp : study.specs) // in spec order
+      if (varying.count(sp.name))
+        sum.varying.push_back(sp.name);
   }
+  return false;
+}
+
+JobStream::JobStream(const Study& study, const std::string& tier, std::size_t max_jobs)
+    : impl_(std::make_unique<Impl>(study, tier, max_jobs)) {}
+JobStream::JobStream(JobStream&&) noexcept = default;
+JobStream& JobStream::operator=(JobStream&&) noexcept = default;
+JobStream::~JobStream() = default;
+
+bool JobStream::next(JobSpec& job) {
+  return impl_->next(job);
+}
+
+const ExpansionSummary& JobStream::summary() const {
+  return impl_->sum;
+}
+
+const JobSpec& JobCursor::at(std::size_t ordinal) {
+  if (ordinal + 1 < next_)
+    throw std::out_of_range("JobCursor: job " + std::to_string(ordinal) + " is behind the cursor");
+  while (next_ <= ordinal) {
+    if (!jobs_.next(job_))
+      throw std::out_of_range("JobCursor: no job " + std::to_string(ordinal));
+    ++next_;
+  }
+  return job_;
+}
+
+ExpansionSummary for_each_job(const Study& study, const std::string& tier, std::size_t max_jobs,
+                              const std::function<void(JobSpec&)>& f) {
+  JobStream jobs(study, tier, max_jobs);
+  JobSpec job;
+  while (jobs.next(job))
+    f(job);
+  return jobs.summary();
+}
+
+Expansion expand(const Study& study, const std::string& tier, std::size_t max_jobs) {
+  Expansion out;
+  ExpansionSummary sum =
+      for_each_job(study, tier, max_jobs, [&](JobSpec& j) { out.jobs.push_back(std::move(j)); });
+  static_cast<ExpansionSummary&>(out) = std::move(sum);
   return out;
 }
 

@@ -16,6 +16,9 @@ std::string sha256_hex(std::string_view data);
 
 // {"name": value} of the identity parameters, sorted by name; Real values are doubles.
 nlohmann::json identity_params_json(const std::vector<ParamSpec>& specs, const Params& params);
+// identity_params_json(specs, params).dump(), byte for byte, written without a JSON tree (the
+// expansion of a million jobs writes a million).
+std::string identity_params_text(const std::vector<ParamSpec>& specs, const Params& params);
 // {"name": value} of all parameters (identity or not), sorted by name.
 nlohmann::json all_params_json(const Params& params);
 

@@ -129,37 +129,35 @@ std::string overrides_label(const std::vector<Assignment>& sets) {
   return s;
 }
 
-std::vector<std::size_t> matching_jobs(const Expansion& ex, const std::vector<Assignment>& where) {
-  std::vector<std::size_t> out;
-  for (std::size_t i = 0; i < ex.jobs.size(); ++i) {
-    bool all = true;
-    for (const auto& w : where) {
-      auto it = ex.jobs[i].params.find(w.name);
-      all = all && it != ex.jobs[i].params.end() && it->second == w.value;
-    }
-    if (all)
-      out.push_back(i);
+bool matches_where(const Params& params, const std::vector<Assignment>& where) {
+  for (const auto& w : where)
+    if (auto it = params.find(w.name); it == params.end() || !(it->second == w.value))
+      return false;
+  return true;
+}
+
+void fail_where(JobStream jobs, const std::vector<Assignment>& where, const std::string& tier) {
+  // Say which filter matched nothing, and what the study has.
+  std::vector<std::vector<std::string>> values(where.size()); // in expansion order
+  std::vector<std::set<std::string>> seen(where.size());
+  std::vector<bool> any(where.size(), false);
+  JobSpec j;
+  while (jobs.next(j))
+    for (std::size_t i = 0; i < where.size(); ++i)
+      if (auto it = j.params.find(where[i].name); it != j.params.end()) {
+        std::string v = format_value_plain(it->second);
+        if (seen[i].insert(v).second)
+          values[i].push_back(v);
+        any[i] = any[i] || it->second == where[i].value;
+      }
+  for (std::size_t i = 0; i < where.size(); ++i) {
+    const Assignment& w = where[i];
+    if (!any[i])
+      fail("--where " + w.name + "=" + format_value_plain(w.value) + ": no job of the study" +
+           (tier == full_tier ? std::string() : " (tier " + tier + ")") + " has " + w.name + " = " +
+           format_value_plain(w.value) + "; its values: " + quoted_list(values[i]));
   }
-  if (out.empty() && !where.empty()) {
-    // Say which filter matched nothing, and what the study has.
-    for (const auto& w : where) {
-      std::vector<std::string> values; // in expansion order
-      bool any = false;
-      for (const auto& j : ex.jobs)
-        if (auto it = j.params.find(w.name); it != j.params.end()) {
-          std::string v = format_value_plain(it->second);
-          if (std::find(values.begin(), values.end(), v) == values.end())
-            values.push_back(v);
-          any = any || it->second == w.value;
-        }
-      if (!any)
-        fail("--where " + w.name + "=" + format_value_plain(w.value) + ": no job of the study" +
-             (ex.tier == full_tier ? std::string() : " (tier " + ex.tier + ")") + " has " + w.name +
-             " = " + format_value_plain(w.value) + "; its values: " + quoted_list(values));
-    }
-    fail("--where: no job of the study matches every filter together");
-  }
-  return out;
+  fail("--where: no job of the study matches every filter together");
 }
 
 Study adhoc_study(const std::string& case_name, const std::string& scheme,

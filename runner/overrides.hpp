@@ -27,9 +27,14 @@ void apply_overrides(Study& study, const std::vector<Assignment>& sets);
 // "n_side=40,visc=visc03": the label of a set of overrides (in the tier name they register under).
 std::string overrides_label(const std::vector<Assignment>& sets);
 
-// The jobs of an expansion that match every --where assignment (their indexes). A filter that
-// matches no job is an error listing the values the study has.
-std::vector<std::size_t> matching_jobs(const Expansion& ex, const std::vector<Assignment>& where);
+// A job's parameters match every --where assignment.
+bool matches_where(const Params& params, const std::vector<Assignment>& where);
+
+// The error of --where filters that match no job of a study (tier, named in the message unless
+// "full"), from a new pass over its jobs: the filter that matches nothing and the values the study
+// has, or that the filters match nothing together.
+[[noreturn]] void fail_where(JobStream jobs, const std::vector<Assignment>& where,
+                             const std::string& tier);
 
 // The study of `runner one`: name "adhoc", the case, its scheme ("" for the default) and the
 // parameters; registering it adds its job to the study without retiring earlier ones.

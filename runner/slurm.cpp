@@ -120,17 +120,14 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   ro.max_jobs = opts.max_jobs;
   ro.set = opts.set;
   ro.where = opts.where;
-  const SelectedExpansion sel = expand_selected(study, ro);
-  const Expansion& ex = sel.ex;
-  std::vector<bool> is_selected(ex.jobs.size(), false);
-  for (std::size_t i : sel.selected)
-    is_selected[i] = true;
-  const std::string tier = ex.tier;
+  const Selection sel = select_jobs(study, ro);
+  const Survey sv = survey(sel); // every job valid, before anything is written
+  const std::string tier = sel.label;
   Store store = Store::open_write(opts.db_path);
   const std::string host = host_name();
   const int pid = static_cast<int>(getpid());
   const std::string fingerprint = solver_fingerprint();
-  SweepStart front = start_sweep(store, study, ex,
+  SweepStart front = start_sweep(store, study, sel,
                                  {opts.retry_failed, opts.max_attempts, opts.rerun_stale, 30}, out);
   if (const auto& ing = front.ingested; ing && (ing->ingested || ing->lost))
     out << "ingested " << ing->ingested << " finished Slurm job(s)"
@@ -144,7 +141,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
         << "); kept as they are, --rerun-stale resubmits them\n";
   std::vector<const JobRow*> todo; // the pending jobs --where selects
   for (const JobRow* row : front.todo)
-    if (is_selected[row->ordinal])
+    if (sv.selected[row->ordinal])
       todo.push_back(row);
   std::size_t submitted_already = 0, done = 0;
   for (const auto& row : sync.jobs) {
@@ -154,7 +151,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
       ++done;
   }
   const std::string title = study.name + (tier == full_tier ? "" : " [" + tier + "]");
-  out << title << ": " << ex.jobs.size() << " jobs: " << done << " done, " << submitted_already
+  out << title << ": " << sv.summary.size << " jobs: " << done << " done, " << submitted_already
       << " already submitted, " << todo.size() << " to submit\n";
   if (todo.empty())
     return 0;
@@ -184,8 +181,9 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
     ids.push_back(row->id);
   AttemptStart start{host,          pid,        opts.threads_per_job, code_version(),
                      compiler_id(), unix_now(), solver_fingerprint(), std::nullopt};
+  JobCursor cursor(sel.jobs()); // the to-do list is in expansion order
   auto on_marked = [&](std::size_t k, int attempt) {
-    const JobSpec& job = ex.jobs[todo[k]->ordinal];
+    const JobSpec& job = cursor.at(todo[k]->ordinal);
     std::string stem = job.key + "." + std::to_string(attempt);
     // Outputs (HDF5 series, checkpoints) go to the shared directory the nodes see; ingestion
     // moves a finished job's outputs to <db dir>/<study>/<key>, as a local run leaves them.

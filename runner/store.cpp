@@ -13,7 +13,6 @@
 #include <set>
 #include <sys/vfs.h>
 #include <unistd.h>
-#include <unordered_set>
 
 namespace sph::runner {
 
@@ -342,18 +341,20 @@ std::string stale_sql(Db& db, const std::string& job, const std::string& state,
   return "(" + state + " IN ('done','diverged') AND " + fingerprint + " IS NOT " + fp + ")";
 }
 
-SyncReport Store::register_expansion(const Study& study, const Expansion& ex, bool retry_failed,
-                                     int max_attempts, bool rerun_stale,
+SyncReport Store::register_expansion(const Study& study, const std::string& tier, JobStream& jobs,
+                                     bool retry_failed, int max_attempts, bool rerun_stale,
                                      const std::string& fingerprint) {
   StudyRecord rec{study.name, study.case_name, study.description,
                   study.file.empty() ? std::string()
                                      : fs::absolute(study.file).lexically_normal().string(),
                   study.definition_sha256};
-  SyncReport sync = sync_study(rec, ex.tier, ex.jobs, retry_failed, max_attempts, unix_now(),
-                               rerun_stale ? std::optional<std::string>(fingerprint) : std::nullopt,
-                               study.accumulate);
+  JobSpec job;
+  SyncReport sync = sync_study(
+      rec, tier, [&]() -> const JobSpec* { return jobs.next(job) ? &job : nullptr; }, retry_failed,
+      max_attempts, unix_now(),
+      rerun_stale ? std::optional<std::string>(fingerprint) : std::nullopt, study.accumulate);
   if (!rerun_stale)
-    sync.stale_kept = stale_count(sync.study_id, ex.tier, fingerprint);
+    sync.stale_kept = stale_count(sync.study_id, tier, fingerprint);
   return sync;
 }
 
@@ -376,6 +377,15 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
                              const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
                              double now, const std::optional<std::string>& rerun_stale_of,
                              bool accumulate) {
+  std::size_t i = 0;
+  return sync_study(
+      study, tier, [&]() { return i < jobs.size() ? &jobs[i++] : nullptr; }, retry_failed,
+      max_attempts, now, rerun_stale_of, accumulate);
+}
+
+SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
+                             const JobSource& jobs, bool retry_failed, int max_attempts, double now,
+                             const std::optional<std::string>& rerun_stale_of, bool accumulate) {
   SyncReport r;
   WriteTx tx(db_);
   {
@@ -397,12 +407,13 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
       r.study_is_new = true;
     }
   }
-  std::unordered_set<std::int64_t> before;
+  std::vector<std::int64_t> before; // sorted (8 bytes a job: a study of a million jobs again)
   {
-    Stmt q = db_.prepare("SELECT job_id FROM study_jobs WHERE study_id=? AND tier=? AND current");
+    Stmt q = db_.prepare("SELECT job_id FROM study_jobs WHERE study_id=? AND tier=? AND current "
+                         "ORDER BY job_id");
     q.bind(1, r.study_id).bind(2, tier);
     while (q.step())
-      before.insert(q.integer(0));
+      before.push_back(q.integer(0));
     // Jobs of an earlier version of the study stay members (current=0): still queryable.
     if (!accumulate) {
       Stmt d = db_.prepare("UPDATE study_jobs SET current=0 WHERE study_id=? AND tier=?");
@@ -416,12 +427,12 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
   Stmt member = db_.prepare(
       "INSERT INTO study_jobs(study_id, job_id, tier, ordinal, current) VALUES(?,?,?,?,1) "
       "ON CONFLICT(study_id, job_id, tier) DO UPDATE SET ordinal=excluded.ordinal, current=1");
-  // Many new jobs at once: after the first 20,000 new ones, the (name, value, job_id) index is
-  // dropped and rebuilt once at the end (a sort) instead of taking ten random inserts per job.
-  // Inside the transaction: readers never see the table without it.
-  bool bulk = false;
-  Stmt params = db_.prepare("INSERT OR IGNORE INTO job_params(job_id, name, value) SELECT ?1, "
-                            "p.key, p.value FROM json_each(?2) p");
+  // The parameters of the new jobs go to job_params after the loop, in one statement. (One
+  // statement per job, inserting its rows from json_each, wrote each page it changed, changed
+  // before in the transaction, to a statement journal first, as a statement of several rows that
+  // may fail half-way on a foreign key must: 18 pages of 4 kB a job, 1.1 GB for 20,000 jobs, most
+  // of the time registering a million new jobs took.)
+  const std::int64_t last_id_before = db_.scalar_int("SELECT coalesce(max(id), 0) FROM jobs");
   std::size_t kept = 0;
   std::int64_t first_ordinal = 0; // accumulate: the jobs go after the study's others
   if (accumulate) {
@@ -431,33 +442,46 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
     m.step();
     first_ordinal = m.integer(0);
   }
-  for (std::size_t i = 0; i < jobs.size(); ++i) {
-    const JobSpec& j = jobs[i];
+  std::vector<std::int64_t> given; // accumulate: the ids of the given jobs
+  std::size_t i = 0;
+  for (const JobSpec* next = jobs(); next; next = jobs(), ++i) {
+    const JobSpec& j = *next;
     ins.bind(1, j.key).bind(2, j.case_name).bind(3, j.scheme).bind(4, numerics_version);
     ins.bind(5, j.params_json).bind(6, now).bind(7, now).run();
     std::int64_t id;
     if (db_.changes() == 1) {
       id = sqlite3_last_insert_rowid(db_.handle());
-      if (++r.inserted == 20000 && jobs.size() - i > 20000) {
-        db_.exec("DROP INDEX IF EXISTS job_params_lookup");
-        bulk = true;
-      }
-      params.bind(1, id).bind(2, j.params_json).run();
+      ++r.inserted;
     } else {
       find.bind(1, j.key);
       find.step();
       id = find.integer(0);
       find.reset();
     }
-    if (before.count(id))
+    if (std::binary_search(before.begin(), before.end(), id))
       ++kept;
     member.bind(1, r.study_id).bind(2, id).bind(3, tier);
     member.bind(4, first_ordinal + static_cast<std::int64_t>(i));
     member.run();
+    if (accumulate)
+      given.push_back(id);
   }
   r.removed = accumulate ? 0 : before.size() - kept;
-  if (bulk)
-    db_.exec("CREATE INDEX IF NOT EXISTS job_params_lookup ON job_params(name, value, job_id)");
+  {
+    // Many new jobs (at least 20,000, and as many as there were before): the (name, value, job_id)
+    // index is dropped and rebuilt once (a sort) instead of taking ten inserts per job. Inside
+    // the transaction: readers never see the table without it.
+    const bool bulk = r.inserted >= 20000 && static_cast<std::int64_t>(r.inserted) >=
+                                                 db_.scalar_int("SELECT count(*) FROM jobs") / 2;
+    if (bulk)
+      db_.exec("DROP INDEX IF EXISTS job_params_lookup");
+    Stmt params =
+        db_.prepare("INSERT OR IGNORE INTO job_params(job_id, name, value) SELECT j.id, "
+                    "p.key, p.value FROM jobs j, json_each(j.params_json) p WHERE j.id > ?");
+    params.bind(1, last_id_before).run();
+    if (bulk)
+      db_.exec("CREATE INDEX IF NOT EXISTS job_params_lookup ON job_params(name, value, job_id)");
+  }
 
   const std::string failing = sql_states({JobState::failed, JobState::diverged, JobState::timeout});
   // With to_pending(): ?1 is the time, the study and tier are ?2 and ?3.
@@ -487,13 +511,13 @@ SyncReport Store::sync_study(const StudyRecord& study, const std::string& tier,
                     "jobs j ON j.id = sj.job_id WHERE sj.study_id=? AND sj.tier=? AND sj.current "
                     "ORDER BY sj.ordinal");
     q.bind(1, r.study_id).bind(2, tier);
-    Stmt one = db_.prepare("SELECT j.id, j.state, j.attempts FROM jobs j WHERE j.key=?");
-    for (std::size_t i = 0; accumulate && i < jobs.size(); ++i) {
-      // Only the given jobs (at their index in `jobs`), not every member.
-      one.bind(1, jobs[i].key);
+    Stmt one = db_.prepare("SELECT state, attempts FROM jobs WHERE id=?");
+    for (std::size_t k = 0; k < given.size(); ++k) {
+      // Only the given jobs (at their index among them), not every member.
+      one.bind(1, given[k]);
       if (one.step())
         r.jobs.push_back(
-            {one.integer(0), i, job_state_from(one.text(1)), static_cast<int>(one.integer(2))});
+            {given[k], k, job_state_from(one.text(0)), static_cast<int>(one.integer(1))});
       one.reset();
     }
     while (!accumulate && q.step())

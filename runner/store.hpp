@@ -243,12 +243,20 @@ public:
                         const std::vector<JobSpec>& jobs, bool retry_failed, int max_attempts,
                         double now, const std::optional<std::string>& rerun_stale_of = {},
                         bool accumulate = false);
+  // The same with the jobs one at a time, in expansion order: jobs() gives the next one, nullptr
+  // after the last (a JobStream: none is held).
+  using JobSource = std::function<const JobSpec*()>;
+  SyncReport sync_study(const StudyRecord& study, const std::string& tier, const JobSource& jobs,
+                        bool retry_failed, int max_attempts, double now,
+                        const std::optional<std::string>& rerun_stale_of, bool accumulate);
 
-  // The front half shared by `run` and `submit`: registers an expanded study (sync_study with the
-  // study's record) and counts the stale jobs it keeps; fingerprint is this build's solver
-  // fingerprint, rerun_stale puts the stale ones back to pending instead.
-  SyncReport register_expansion(const Study& study, const Expansion& ex, bool retry_failed,
-                                int max_attempts, bool rerun_stale, const std::string& fingerprint);
+  // The front half shared by `run` and `submit`: registers a study's jobs for a tier as the
+  // stream gives them (sync_study with the study's record) and counts the stale jobs it keeps;
+  // fingerprint is this build's solver fingerprint, rerun_stale puts the stale ones back to
+  // pending instead.
+  SyncReport register_expansion(const Study& study, const std::string& tier, JobStream& jobs,
+                                bool retry_failed, int max_attempts, bool rerun_stale,
+                                const std::string& fingerprint);
 
   // Done and diverged jobs of a study's tier (current expansion) whose result was made by solver
   // code other than `fingerprint` (or before fingerprints were recorded).

@@ -48,6 +48,16 @@ inline std::string study_error(const std::string& toml) {
   return "";
 }
 
+// The [sweep] of a patch_test study of 20,000 jobs (4 x 10 x 2 x 25 x 10).
+inline const char* const sweep_20000_jobs = R"(
+[sweep]
+visc = ["visc01", "visc02", "visc03", "visc04"]
+n_side = [8, 9, 10, 11, 12, 13, 14, 15, 16, 17]
+lattice = ["uniform", "disordered"]
+seed = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25]
+disorder = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]
+)";
+
 #define EXPECT_CONTAINS(haystack, needle)                                                          \
   EXPECT_NE(std::string(haystack).find(needle), std::string::npos)                                 \
       << "expected to find: " << (needle) << "\nin: " << (haystack)

@@ -165,14 +165,7 @@ TEST(Expand, DuplicatesCollapse) {
 
 TEST(Expand, LargeStudyExpandsQuickly) {
   auto t0 = std::chrono::steady_clock::now();
-  auto e = ex(R"(
-[sweep]
-visc = ["visc01", "visc02", "visc03", "visc04"]
-n_side = [8, 9, 10, 11, 12, 13, 14, 15, 16, 17]
-lattice = ["uniform", "disordered"]
-seed = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25]
-disorder = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]
-)");
+  auto e = ex(sweep_20000_jobs);
   double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(e.jobs.size(), 20000u);
   EXPECT_LT(s, 5.0);
