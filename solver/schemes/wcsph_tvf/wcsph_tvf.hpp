@@ -372,9 +372,9 @@ struct SecondHalf {
     const double u = (p.v[i] - vj).dot(e);
     const double VdW = p.V[q.j] * q.dW;
     a.d += u * VdW;
-    const double beta = dissipation_beta(o, u);
-    if (beta > 0.0)
-      a.f += (rho0c0 * beta * u * VdW) * e;
+    // Added also when beta = 0 (a zero term leaves the sum's bits unchanged): the sign of u_ij
+    // is random pair to pair, and a branch on it mispredicts about every other pair.
+    a.f += (rho0c0 * dissipation_beta(o, u) * u * VdW) * e;
   }
   void finish(std::size_t i, const Acc& a) {
     drho[i] += p.rho[i] * a.d;
