@@ -1,28 +1,40 @@
 // sph_bench: throughput of the solver core, the numbers ../README.md reports.
 //
-// For N = 10k, 40k, 160k particles (2D and 3D; a slightly disordered lattice in a periodic box,
-// Wendland C2, h = 1.3 dx) it measures, on one thread and on all:
-//   - neighbour search: cell-list build (counting sort + reorder of all fields) and the cached
-//     neighbour-list build, in ns per particle;
+// On a slightly disordered lattice in a periodic box (every coordinate shifted by up to 0.1 dx,
+// Wendland C2, h = 1.3 dx: 20 neighbours in 2D, 79 in 3D) it measures:
+//   - neighbour search, in ns per particle:
+//       cell list build: counting sort by cell and reorder of every particle field;
+//       neighbour list from the cell list: candidates within the support, then the pair geometry
+//         (r_ij, r, W, dW) of the pairs within it (NeighborList::build(CellList, ...));
+//       Verlet list build: sort, then the candidates within cutoff = support + skin
+//         (VerletList::rebuild; what LAMMPS's "Neigh" time counts per build);
+//       pair geometry from the Verlet list: r_ij, r, W, dW of its candidates within the support,
+//         every step (NeighborList::build(VerletList, ...));
 //   - pair loops, in pair evaluations per second per core (one evaluation = one ordered pair
-//     i, j != i, gather style), each through both drivers (on the fly from the cell list, and from
-//     the cached neighbour list):
+//     i, j != i within the support, gather style), through both drivers (on the fly from the cell
+//     list, and from the cached neighbour list):
 //       density:  rho_i = sum_j m_j W_ij                                (SummationDensity)
 //       pressure: a_i = -sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2) grad_i W_ij
-// Anchor (../shared/notes/performance.md): 2.5-3e7 pair evaluations per second per core.
-// Usage: sph_bench [--quick] [--csv]
+// Anchor (../shared/notes/performance.md): 2.5-3e7 pair evaluations per second per core;
+// bench/lammps_ab.sh runs LAMMPS beside it.
+// Usage: sph_bench [--n N] [--dim 2|3] [--threads T] [--skin F] [--quick] [--csv]
+//   default: N = 10k, 40k, 160k, both dimensions, 1 thread and all; skin = F x support (0.25,
+//   the wcsph_tvf default); --quick: N = 10k only.
 #include "core/cell_list.hpp"
 #include "core/kernels/wendland_c2.hpp"
 #include "core/lattice.hpp"
 #include "core/neighbor_list.hpp"
+#include "core/verlet_list.hpp"
 #include "operators/summation_density.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <omp.h>
 #include <string>
+#include <vector>
 
 using namespace sph;
 
@@ -70,12 +82,13 @@ void report(int D, std::size_t N, double neighbours, int threads, const char* wh
   if (csv)
     std::printf("%d,%zu,%.1f,%d,%s,%.4g,%s\n", D, N, neighbours, threads, what, value, unit);
   else
-    std::printf("  %dD N=%-7zu nbrs=%5.1f threads=%d  %-28s %10.4g %s\n", D, N, neighbours, threads,
+    std::printf("  %dD N=%-7zu nbrs=%5.1f threads=%d  %-34s %10.4g %s\n", D, N, neighbours, threads,
                 what, value, unit);
+  std::fflush(stdout);
 }
 
 template <int D>
-void bench(std::size_t N_target, int threads) {
+void bench(std::size_t N_target, int threads, double skin_fraction) {
   omp_set_num_threads(threads);
   const int n = static_cast<int>(std::lround(std::pow(static_cast<double>(N_target), 1.0 / D)));
   const double dx = 1.0 / n;
@@ -113,6 +126,20 @@ void bench(std::size_t N_target, int threads) {
   const double t_nl = time_it([&] { nl.build(cells, p.r, kernel); });
   report(D, N, nbrs, threads, "neighbour list build", 1e9 * t_nl / N, "ns/particle");
 
+  const double skin =
+      VerletList<D>::largest_skin(box, kernel.support(), skin_fraction * kernel.support());
+  VerletList<D> vl(box, kernel.support(), skin);
+  vl.rebuild(p);
+  report(D, N, nbrs, threads, "verlet candidates", static_cast<double>(vl.rows().size()) / N,
+         "per particle");
+  const double t_vl = time_it([&] { vl.rebuild(p); });
+  report(D, N, nbrs, threads, "verlet list build", 1e9 * t_vl / N, "ns/particle");
+  const double t_geo = time_it([&] { nl.build(vl, p.r, kernel); });
+  report(D, N, nbrs, threads, "pair geometry (verlet list)", 1e9 * t_geo / N, "ns/particle");
+
+  // The loops on cells of edge = the support (the Verlet build sorted by its larger cells).
+  cells.build(p);
+  nl.build(cells, p.r, kernel);
   SummationDensity<D, WendlandC2<D>> density{p, kernel};
   const double t_rho_cells = time_it([&] { interact(cells, p.r, kernel, density); });
   report(D, N, nbrs, threads, "density (cell list)", pairs / t_rho_cells / threads, "pairs/s/core");
@@ -130,32 +157,54 @@ void bench(std::size_t N_target, int threads) {
          "pairs/s/core");
 }
 
+int usage() {
+  std::fprintf(stderr,
+               "usage: sph_bench [--n N] [--dim 2|3] [--threads T] [--skin F] [--quick] [--csv]\n");
+  return 2;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
   bool quick = false;
+  std::vector<std::size_t> sizes{10000, 40000, 160000};
+  std::vector<int> dims{2, 3}, thread_counts;
+  double skin = 0.25;
   for (int k = 1; k < argc; ++k) {
+    const bool has_value = k + 1 < argc;
     if (!std::strcmp(argv[k], "--quick"))
       quick = true;
     else if (!std::strcmp(argv[k], "--csv"))
       csv = true;
-    else {
-      std::fprintf(stderr, "usage: sph_bench [--quick] [--csv]\n");
-      return 2;
-    }
+    else if (!std::strcmp(argv[k], "--n") && has_value)
+      sizes = {static_cast<std::size_t>(std::atol(argv[++k]))};
+    else if (!std::strcmp(argv[k], "--dim") && has_value)
+      dims = {std::atoi(argv[++k])};
+    else if (!std::strcmp(argv[k], "--threads") && has_value)
+      thread_counts = {std::atoi(argv[++k])};
+    else if (!std::strcmp(argv[k], "--skin") && has_value)
+      skin = std::atof(argv[++k]);
+    else
+      return usage();
   }
+  for (int d : dims)
+    if (d != 2 && d != 3)
+      return usage();
+  if (sizes[0] < 100)
+    return usage();
   const int all = omp_get_num_procs();
+  if (thread_counts.empty()) {
+    thread_counts = {1};
+    if (all > 1)
+      thread_counts.push_back(all);
+  }
+  if (quick)
+    sizes.resize(1);
   if (csv)
     std::printf("dim,particles,neighbours,threads,measure,value,unit\n");
-  for (std::size_t N : {std::size_t{10000}, std::size_t{40000}, std::size_t{160000}}) {
-    if (quick && N > 10000)
-      break;
-    for (int t : {1, all}) {
-      bench<2>(N, t);
-      bench<3>(N, t);
-      if (all == 1)
-        break;
-    }
-  }
+  for (std::size_t N : sizes)
+    for (int t : thread_counts)
+      for (int d : dims)
+        d == 2 ? bench<2>(N, t, skin) : bench<3>(N, t, skin);
   return 0;
 }

@@ -66,6 +66,22 @@ public:
   void for_each_neighbor(std::size_t i, const std::vector<Vec<D>>& r, F&& f) const {
     const double s2 = support_ * support_;
     const Vec<D> ri = r[i];
+    for_each_range(i, [&](std::uint32_t b, std::uint32_t e, const Vec<D>& shift) {
+      for (std::uint32_t j = b; j < e; ++j) {
+        const Vec<D> rij = ri - r[j] + shift;
+        const double r2 = rij.squaredNorm();
+        if (r2 < s2 && j != i)
+          f(j, rij, r2);
+      }
+    });
+  }
+
+  // The candidates of particle i (i itself included) as contiguous ranges of the particle order:
+  // f(b, e, shift) for the particles [b, e) of one neighbour x-row of cells, shift the periodic
+  // image to add to r_i - r_j. 3 ranges in 2D, 9 in 3D, plus one wrapped cell per row on a
+  // periodic x axis.
+  template <class F>
+  void for_each_range(std::size_t i, F&& f) const {
     std::array<int, D> c;
     decode(cell_sorted_[i], c);
     // Loop over the neighbour rows (all offsets of axes 1..D-1), then the x-range of each row.
@@ -93,26 +109,25 @@ public:
       // x-range: contiguous cells [x0, x1] plus, on a periodic x axis, one wrapped cell.
       int x0 = c[0] - 1, x1 = c[0] + 1;
       if (x0 < 0) {
-        if (domain_.periodic[0])
-          scan(ri, r, off + n_[0] - 1, off + n_[0] - 1, shift, len_[0], s2, i, f);
+        if (domain_.periodic[0]) {
+          shift[0] = len_[0];
+          f(start_[off + n_[0] - 1], start_[off + n_[0]], shift);
+        }
         x0 = 0;
       }
       if (x1 >= n_[0]) {
-        if (domain_.periodic[0])
-          scan(ri, r, off, off, shift, -len_[0], s2, i, f);
+        if (domain_.periodic[0]) {
+          shift[0] = -len_[0];
+          f(start_[off], start_[off + 1], shift);
+        }
         x1 = n_[0] - 1;
       }
-      scan(ri, r, off + x0, off + x1, shift, 0.0, s2, i, f);
+      shift[0] = 0.0;
+      f(start_[off + x0], start_[off + x1 + 1], shift);
     }
   }
 
-private:
-  Domain<D> domain_;
-  double support_;
-  std::array<int, D> n_{};      // cells per axis
-  Vec<D> lo_, cell_size_, len_; // grid origin, cell edge, periodic length
-  std::vector<std::uint32_t> cell_, cell_sorted_, perm_, start_, count_;
-
+  // Wraps the coordinates of periodic axes into [lo, hi) (build() does it first).
   void wrap(std::vector<Vec<D>>& r) const {
     for (int a = 0; a < D; ++a) {
       if (!domain_.periodic[a])
@@ -129,6 +144,23 @@ private:
       }
     }
   }
+
+  // The cells of positions that an earlier build() left wrapped and sorted (a resumed run
+  // rebuilding the list of a saved configuration): the same cells as that build, no reordering.
+  void index_sorted(const std::vector<Vec<D>>& r) {
+    index(r);
+    for (std::size_t i = 0; i < perm_.size(); ++i)
+      if (perm_[i] != i)
+        throw std::logic_error("CellList::index_sorted: the positions are not in cell order");
+    cell_sorted_ = cell_;
+  }
+
+private:
+  Domain<D> domain_;
+  double support_;
+  std::array<int, D> n_{};      // cells per axis
+  Vec<D> lo_, cell_size_, len_; // grid origin, cell edge, periodic length
+  std::vector<std::uint32_t> cell_, cell_sorted_, perm_, start_, count_;
 
   void index(const std::vector<Vec<D>>& r) {
     const std::size_t N = r.size();
@@ -186,19 +218,6 @@ private:
     for (int a = 0; a < D; ++a) {
       out[a] = static_cast<int>(c % static_cast<std::uint32_t>(n_[a]));
       c /= static_cast<std::uint32_t>(n_[a]);
-    }
-  }
-
-  template <class F>
-  void scan(const Vec<D>& ri, const std::vector<Vec<D>>& r, int c0, int c1, Vec<D> shift,
-            double xshift, double s2, std::size_t i, F& f) const {
-    shift[0] = xshift;
-    const std::uint32_t b = start_[c0], e = start_[c1 + 1];
-    for (std::uint32_t j = b; j < e; ++j) {
-      const Vec<D> rij = ri - r[j] + shift;
-      const double r2 = rij.squaredNorm();
-      if (r2 < s2 && j != i)
-        f(j, rij, r2);
     }
   }
 };

@@ -5,6 +5,7 @@
 #include "core/vec.hpp"
 
 #include <array>
+#include <limits>
 
 namespace sph {
 
@@ -20,6 +21,30 @@ struct Domain {
       if (b)
         return true;
     return false;
+  }
+};
+
+// The minimum image of a pair vector d = r_i - r_j whose components lie in (-L, L) (both positions
+// wrapped into the box): on a periodic axis a component beyond half the box length moves by -+L.
+// Written as (r_i - r_j) -+ L, the same rounding as the cell list's (r_i - r_j) + shift, so a pair
+// gets bitwise the same r_ij from either. Non-periodic axes have half = infinity and never move.
+template <int D>
+struct MinimumImage {
+  Vec<D> L, half;
+  explicit MinimumImage(const Domain<D>& box) {
+    for (int a = 0; a < D; ++a) {
+      L[a] = box.periodic[a] ? box.hi[a] - box.lo[a] : 0.0;
+      half[a] = box.periodic[a] ? 0.5 * L[a] : std::numeric_limits<double>::infinity();
+    }
+  }
+  Vec<D> operator()(Vec<D> d) const {
+    for (int a = 0; a < D; ++a) {
+      if (d[a] > half[a])
+        d[a] -= L[a];
+      else if (d[a] < -half[a])
+        d[a] += L[a];
+    }
+    return d;
   }
 };
 

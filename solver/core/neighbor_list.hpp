@@ -1,15 +1,18 @@
 // Cached neighbour list (compressed rows) with per-pair geometry and kernel values.
 //
 // Iterative schemes (ISPH matrix assembly, ALSPH inner iterations, acoustic sub-steps) evaluate
-// many pair loops on the same configuration; they build this list once per step from the cell list
-// and every later loop streams over it instead of searching again (SPHinXsys keeps a Neighborhood
-// per particle for the same reason; ../notes/performance.md).
+// many pair loops on the same configuration; they build this list once per step and every later
+// loop streams over it instead of searching again (SPHinXsys keeps a Neighborhood per particle
+// for the same reason; ../notes/performance.md). Its pairs come from candidate rows: those of a
+// Verlet list kept across steps (core/verlet_list.hpp; the schemes), or those of a cell list
+// built for this one call (cells of edge >= the support: every pair within it is a candidate).
 //
 // Per ordered pair (i, j != i): j, r_ij = r_i - r_j (minimum image), r = |r_ij|, W_ij and
 // dW_ij = dW/dr(r). The kernel gradient is grad_i W_ij = dW_ij r_ij / r (see Pair::grad()).
 #pragma once
 
 #include "core/cell_list.hpp"
+#include "core/verlet_list.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -40,15 +43,25 @@ public:
   std::size_t num_pairs() const { return j.size(); }
   std::size_t num_particles() const { return offset.empty() ? 0 : offset.size() - 1; }
 
-  // Rebuilds from a cell list built on positions x (same order). Reuses capacity: after the
-  // first steps it does not allocate.
+  // The pairs within the support of a Verlet list (core/verlet_list.hpp) on the current
+  // positions x (same order), every step: its candidates within kernel.support().
+  template <class Kernel>
+  void build(const VerletList<D>& vl, const std::vector<Vec<D>>& x, const Kernel& kernel) {
+    build_constant_h(vl.rows(), vl.image(), x, kernel, vl.support());
+  }
+  // Variable smoothing length on a Verlet list (see the cell-list overload below).
+  template <class Kernel>
+  void build(const VerletList<D>& vl, const std::vector<Vec<D>>& x, const Kernel& kernel,
+             const std::vector<double>& h) {
+    build_variable_h(vl.rows(), vl.image(), x, kernel, h, vl.support());
+  }
+
+  // Rebuilds from a cell list built on positions x (same order): its candidates within the cells'
+  // support, then their geometry. Reuses capacity: after the first steps it does not allocate.
   template <class Kernel>
   void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const Kernel& kernel) {
-    build_pairs(
-        cells, x, [](std::size_t, std::uint32_t, double) { return true; },
-        [&](std::size_t, std::uint32_t, double rr, double& w, double& dw) {
-          w = kernel.W(rr), dw = kernel.dW(rr);
-        });
+    rows_.build(cells, x, cells.support());
+    build_constant_h(rows_, MinimumImage<D>(cells.domain()), x, kernel, cells.support());
   }
 
   // Variable smoothing length (h[i] per particle): the pair's kernel has h_ij = (h_i + h_j) / 2,
@@ -58,12 +71,37 @@ public:
   template <class Kernel>
   void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const Kernel& kernel,
              const std::vector<double>& h) {
-    const double h0 = kernel.h, s0 = kernel.support() / h0;
+    rows_.build(cells, x, cells.support());
+    build_variable_h(rows_, MinimumImage<D>(cells.domain()), x, kernel, h, cells.support());
+  }
+
+  Pair<D> pair(std::size_t k) const { return {j[k], r_ij[k], r[k], W[k], dW[k]}; }
+
+private:
+  std::vector<std::uint32_t> count_, kept_;
+  CandidateRows<D> rows_; // the cell-list overloads' candidates
+
+  template <class Kernel>
+  void build_constant_h(const CandidateRows<D>& rows, const MinimumImage<D>& image,
+                        const std::vector<Vec<D>>& x, const Kernel& kernel, double support) {
+    const double s2 = support * support;
     build_pairs(
-        cells, x,
+        rows, image, x, [s2](std::size_t, std::uint32_t, double r2) { return r2 < s2; },
+        [&](std::size_t, std::uint32_t, double rr, double& w, double& dw) {
+          w = kernel.W(rr), dw = kernel.dW(rr);
+        });
+  }
+
+  template <class Kernel>
+  void build_variable_h(const CandidateRows<D>& rows, const MinimumImage<D>& image,
+                        const std::vector<Vec<D>>& x, const Kernel& kernel,
+                        const std::vector<double>& h, double support) {
+    const double h0 = kernel.h, s0 = kernel.support() / h0, c2 = support * support;
+    build_pairs(
+        rows, image, x,
         [&](std::size_t i, std::uint32_t jj, double r2) {
           const double s = s0 * 0.5 * (h[i] + h[jj]);
-          return r2 < s * s;
+          return (r2 < c2) & (r2 < s * s);
         },
         [&](std::size_t i, std::uint32_t jj, double rr, double& w, double& dw) {
           const double a = h0 / (0.5 * (h[i] + h[jj])), aD = D == 2 ? a * a : a * a * a;
@@ -71,24 +109,30 @@ public:
         });
   }
 
-  Pair<D> pair(std::size_t k) const { return {j[k], r_ij[k], r[k], W[k], dW[k]}; }
-
-private:
-  std::vector<std::uint32_t> count_;
-
-  // The candidates of the cell list that accept(i, j, r2) keeps, with eval(i, j, r, W, dW):
-  // pass 1 counts, pass 2 fills (each in parallel over particles).
+  // The candidates (i, j) that accept(i, j, r2) keeps, r_ij = image(x_i - x_j), with
+  // eval(i, j, r, W, dW). Pass 1 tests every candidate branch-free and notes the kept ones in
+  // kept_ (at the candidate row's own positions, so particles are independent); the offsets
+  // follow from the counts; pass 2 fills the kept pairs. Both passes are parallel over
+  // particles and the result does not depend on the number of threads.
   template <class Accept, class Eval>
-  void build_pairs(const CellList<D>& cells, const std::vector<Vec<D>>& x, Accept&& accept,
-                   Eval&& eval) {
+  void build_pairs(const CandidateRows<D>& rows, const MinimumImage<D>& image,
+                   const std::vector<Vec<D>>& x, Accept&& accept, Eval&& eval) {
     const std::size_t N = x.size();
     offset.resize(N + 1);
     count_.resize(N);
-#pragma omp parallel for schedule(dynamic, 256)
+    if (kept_.size() < rows.size())
+      kept_.resize(rows.size());
+#pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < N; ++i) {
+      const Vec<D> xi = x[i];
+      const std::uint32_t b = rows.offset[i], e = rows.offset[i + 1];
+      std::uint32_t* out = kept_.data() + b;
       std::uint32_t n = 0;
-      cells.for_each_neighbor(
-          i, x, [&](std::uint32_t jj, const Vec<D>&, double r2) { n += accept(i, jj, r2); });
+      for (std::uint32_t c = b; c < e; ++c) {
+        const std::uint32_t jj = rows.j[c];
+        out[n] = jj;
+        n += accept(i, jj, image(xi - x[jj]).squaredNorm());
+      }
       count_[i] = n;
     }
     offset[0] = 0;
@@ -96,17 +140,18 @@ private:
       offset[i + 1] = offset[i] + count_[i];
     const std::size_t P = offset[N];
     j.resize(P), r_ij.resize(P), r.resize(P), W.resize(P), dW.resize(P);
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < N; ++i) {
-      std::uint32_t k = offset[i];
-      cells.for_each_neighbor(i, x, [&](std::uint32_t jj, const Vec<D>& rij, double r2) {
-        if (!accept(i, jj, r2))
-          return;
-        const double rr = std::sqrt(r2);
+      const Vec<D> xi = x[i];
+      const std::uint32_t* in = kept_.data() + rows.offset[i];
+      const std::uint32_t k0 = offset[i], n = count_[i];
+      for (std::uint32_t c = 0; c < n; ++c) {
+        const std::uint32_t jj = in[c], k = k0 + c;
+        const Vec<D> rij = image(xi - x[jj]);
+        const double rr = std::sqrt(rij.squaredNorm());
         j[k] = jj, r_ij[k] = rij, r[k] = rr;
         eval(i, jj, rr, W[k], dW[k]);
-        ++k;
-      });
+      }
     }
   }
 };

@@ -5,6 +5,7 @@
 #include "schemes/wcsph_tvf/scheme_info.hpp"
 
 #include "core/kernels/kernel.hpp"
+#include "io/particle_checkpoint.hpp"
 #include "operators/wall_velocity.hpp"
 
 namespace sph {
@@ -63,9 +64,7 @@ public:
       : p_(*flow.p), v_wall_(flow.v_wall), o_(o), f_(prepare(flow)), s_(p_, f_, flow.box, o_) {}
 
   void init() override { s_.init(); }
-  void resume() override {
-    s_.init();
-  } // the cell sort of the saved (cell-ordered) state is the identity
+  void resume() override { s_.resume(r0_, builds_); }
 
   StepStats advance(double& t, double t_end) override {
     const StepInfo i = s_.advance_towards(t, t_end);
@@ -85,15 +84,27 @@ public:
   Vec<D> force_on_walls(Vec<D>* viscous) override { return s_.force_on_walls(viscous); }
   void set_body_acceleration(const Vec<D>& g) override { s_.set_body_acceleration(g); }
 
-  std::vector<std::string> state_names() const override { return {"wcsph_tvf/carried"}; }
+  // The carried scalars, and the Verlet list's reference positions and build count (a resumed
+  // run rebuilds the very list of the uninterrupted run from them).
+  std::vector<std::string> state_names() const override {
+    return {"wcsph_tvf/carried", "wcsph_tvf/verlet_r0", "wcsph_tvf/verlet_builds"};
+  }
   void save_state(StateArrays& out) const override {
     out["wcsph_tvf/carried"] = s_.carried_state();
+    out["wcsph_tvf/verlet_r0"] = io::detail::flatten<D>(s_.verlet().reference());
+    out["wcsph_tvf/verlet_builds"] = {static_cast<double>(s_.verlet().builds())};
   }
   void load_state(const StateArrays& in) override {
     s_.restore_carried_state(in.at("wcsph_tvf/carried"));
+    r0_.resize(p_.size());
+    io::detail::unflatten<D>(in.at("wcsph_tvf/verlet_r0"), r0_, "wcsph_tvf/verlet_r0");
+    const auto& b = in.at("wcsph_tvf/verlet_builds");
+    io::expect_state_size(b, 1, "wcsph_tvf: checkpoint verlet_builds");
+    builds_ = static_cast<long>(b[0]);
   }
   void add_metrics(RunResult& res, double) const override {
     res.add("acoustic_steps", static_cast<double>(s_.acoustic_steps()));
+    res.add("neighbour_builds", static_cast<double>(s_.verlet().builds()));
   }
   long work_steps() const override { return s_.acoustic_steps(); }
 
@@ -105,6 +116,8 @@ private:
   Options o_;
   Fields f_;
   wcsph_tvf::Scheme<D, K> s_;
+  std::vector<Vec<D>> r0_; // loaded Verlet reference positions, for resume()
+  long builds_ = 0;
 
   static Fields prepare(const Flow<D>& flow) {
     Particles<D>& p = *flow.p;

@@ -44,7 +44,10 @@
 //     step, so each sub-step moves the particle by an extra dt^2/2 a~_i), whose momentum equation
 //     also gets the extra stress A = rho v (x) (vt - v):  F^A_i = -V_i sum_j V_j (A_i + A_j) .
 //     grad_i W_ij
-//   neighbours         wrap periodic axes, sort by cell, rebuild the neighbour list.
+//   neighbours         wrap periodic axes; when a particle has moved more than skin/2 since the
+//                      last build, sort by cell and rebuild the Verlet list (cutoff = support +
+//                      skin, core/verlet_list.hpp); the pair geometry (r_ij, r, W, dW of the
+//                      pairs within the support) of the new positions, every step.
 // Time steps (eqs. 9-11) [notes 4]:
 //   Dt_ad = cfl_ad h / max(sqrt(max_i max(|v_i|^2, 4 h |F^diss_i + F_prior_i| / m_i)), U_ref, nu/h)
 //   Dt_ac = cfl_ac h / max_i (c0 + |v_i|),  cfl_ad = 0.25, cfl_ac = 0.6.
@@ -65,9 +68,9 @@
 // |Delta r^tvf_i| / Dt: the shift the correction adds in one advection step over that step.
 #pragma once
 
-#include "core/cell_list.hpp"
 #include "core/neighbor_list.hpp"
 #include "core/particles.hpp"
+#include "core/verlet_list.hpp"
 #include "io/checkpoint.hpp"
 #include "operators/correction_matrix.hpp"
 #include "operators/interact.hpp"
@@ -104,6 +107,12 @@ struct Options {
   double tvf_kappa = 100.0;  // slope of the limiter, eq. (15)
   double pb_factor = 1.0;    // original TVF: p_b = pb_factor rho0 c0^2
   double viscous_eps = 0.01; // r_ij + eps h in the viscous force
+  // Verlet skin as a fraction of the support (not a job parameter: it changes the cost and the
+  // particle order, so results by round-off only). 0.25 by measurement: Taylor-Green n = 100, 205
+  // advection steps, 1 thread, CPU per step relative to skin 0 (a search every step): 0.91-0.94
+  // at 0.25 (91 builds), 0.95-0.98 at 0.5 (52), 1.02 at 0.75, 1.04-1.07 at 1
+  // (docs/architecture.md).
+  double skin = 0.25;
   // Set by a flow from its scales (options_for_flow): h = h_over_dx dx, c0 = c0_factor U_ref.
   std::string kernel = "wendland_c2";
   double h_over_dx = 1.3;
@@ -363,9 +372,9 @@ struct SecondHalf {
     const double u = (p.v[i] - vj).dot(e);
     const double VdW = p.V[q.j] * q.dW;
     a.d += u * VdW;
-    const double beta = dissipation_beta(o, u);
-    if (beta > 0.0)
-      a.f += (rho0c0 * beta * u * VdW) * e;
+    // Added also when beta = 0 (a zero term leaves the sum's bits unchanged): the sign of u_ij
+    // is random pair to pair, and a branch on it mispredicts about every other pair.
+    a.f += (rho0c0 * dissipation_beta(o, u) * u * VdW) * e;
   }
   void finish(std::size_t i, const Acc& a) {
     drho[i] += p.rho[i] * a.d;
@@ -448,9 +457,31 @@ public:
     }
   }
 
-  // Builds the cell list and the neighbour list on the initial positions; the first density
-  // summation happens in the first step.
+  // Builds the Verlet list and the pairs on the initial positions; the first density summation
+  // happens in the first step.
   void init() {
+    setup();
+    neighbour_search();
+  }
+
+  // A resumed run (after the particle fields were restored): the Verlet list of the build whose
+  // reference positions r0 and build count a checkpoint saved (verlet().reference(), builds()),
+  // and the pairs of the current positions: the uninterrupted run had the same list at that step
+  // (the particles are in that build's order, so nothing is sorted).
+  void resume(const std::vector<Vec<D>>& r0, long builds) {
+    setup();
+    if (r0.size() != p_.size())
+      throw std::runtime_error(
+          "wcsph_tvf: checkpoint reference positions do not match the particles");
+    vl_->restore(r0, builds);
+    pair_geometry();
+  }
+  const VerletList<D>& verlet() const {
+    return *vl_;
+  }
+
+private:
+  void setup() {
     sigma0_ = lattice_number_density<D>(kernel_, o_.dx);
     double h_max = o_.h;
     h_min_ = o_.h;
@@ -460,11 +491,12 @@ public:
       for (std::size_t i = 0; i < p_.size(); ++i)
         h_min_ = std::min(h_min_, h[i]), h_max = std::max(h_max, h[i]);
     }
-    cells_ = std::make_unique<CellList<D>>(box_, variable() ? kernel_.support() * h_max / o_.h
-                                                            : kernel_.support());
-    neighbour_search();
+    const double support = variable() ? kernel_.support() * h_max / o_.h : kernel_.support();
+    vl_ = std::make_unique<VerletList<D>>(
+        box_, support, VerletList<D>::largest_skin(box_, support, o_.skin * support));
   }
 
+public:
   // Advection time step, eqs. (9)-(10), from the current velocities and the forces of the last
   // step (F_prior + F^diss); with variable resolution on the smallest h.
   double advection_dt() const {
@@ -571,7 +603,7 @@ private:
   K kernel_;
   std::vector<Stage> stages_; // the advection step, built once (build_stages)
   double sigma0_ = 1.0;
-  std::unique_ptr<CellList<D>> cells_;
+  std::unique_ptr<VerletList<D>> vl_;
   NeighborList<D> nl_;
   std::vector<double> sumW_, traceB_;
   std::vector<Mat<D>> B_;
@@ -599,11 +631,14 @@ private:
     neighbour_search();
   }
   void neighbour_search() {
-    cells_->build(p_);
+    vl_->update(p_);
+    pair_geometry();
+  }
+  void pair_geometry() {
     if (variable())
-      nl_.build(*cells_, p_.r, kernel_, p_.scalar(f_.h));
+      nl_.build(*vl_, p_.r, kernel_, p_.scalar(f_.h));
     else
-      nl_.build(*cells_, p_.r, kernel_);
+      nl_.build(*vl_, p_.r, kernel_);
     const std::size_t N = p_.size();
     sumW_.resize(N), traceB_.resize(N), B_.resize(N, Mat<D>::Identity());
     f_prior_.resize(N, Vec<D>::Zero()), force_.resize(N), g_.resize(N);
