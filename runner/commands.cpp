@@ -2,6 +2,7 @@
 #include "commands.hpp"
 
 #include "diagnostics.hpp"
+#include "job_file.hpp"
 #include "params.hpp"
 #include "progress.hpp"
 #include "provenance.hpp"
@@ -33,6 +34,28 @@ std::string csv_field(const std::string& s) {
     q += c;
   }
   return q + "\"";
+}
+
+std::vector<std::string> csv_split(const std::string& line) {
+  std::vector<std::string> f(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+        f.back() += '"', ++i;
+      else if (c == '"')
+        quoted = false;
+      else
+        f.back() += c;
+    } else if (c == '"')
+      quoted = true;
+    else if (c == ',')
+      f.emplace_back();
+    else
+      f.back() += c;
+  }
+  return f;
 }
 
 namespace {
@@ -69,6 +92,14 @@ std::int64_t study_id(Store& store, const std::string& name) {
   throw std::runtime_error("no study named '" + name + "' in the database" +
                            did_you_mean(name, names) +
                            (names.empty() ? "" : "; studies: " + quoted_list(names)));
+}
+
+// The study's tiers a job belongs to, ';'-separated (export's and publish's `tier` column).
+std::string joined_tiers(const StudyJob& j) {
+  std::string tiers;
+  for (const auto& t : j.tiers)
+    tiers += (tiers.empty() ? "" : ";") + t;
+  return tiers;
 }
 
 std::string json_path(const std::string& param) {
@@ -477,13 +508,10 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
   std::map<std::int64_t, std::size_t> index;
   for (const StudyJob& j : store.study_jobs(sid, std::nullopt, true, solver_fingerprint())) {
     index[j.id] = rows.size();
-    std::string tiers;
-    for (const auto& t : j.tiers)
-      tiers += (tiers.empty() ? "" : ";") + t;
     rows.push_back({j.key,
                     to_string(j.state),
                     j.scheme,
-                    tiers,
+                    joined_tiers(j),
                     j.output_dir,
                     nlohmann::json::parse(j.params_json),
                     {},
@@ -562,29 +590,6 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
 
 namespace {
 
-// Splits one line of an RFC 4180 CSV file (no embedded line breaks) into its fields.
-std::vector<std::string> csv_split(const std::string& line) {
-  std::vector<std::string> f(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"')
-        f.back() += '"', ++i;
-      else if (c == '"')
-        quoted = false;
-      else
-        f.back() += c;
-    } else if (c == '"')
-      quoted = true;
-    else if (c == ',')
-      f.emplace_back();
-    else
-      f.back() += c;
-  }
-  return f;
-}
-
 const char* publish_header = "study,job,tier,code_version,params,metric,value";
 
 } // namespace
@@ -622,12 +627,9 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   for (const StudyJob& j : store.study_jobs(sid, std::nullopt, false, solver_fingerprint())) {
     if ((j.state != JobState::done && j.state != JobState::diverged) || !metrics.count(j.id))
       continue;
-    std::string tiers;
-    for (const auto& t : j.tiers)
-      tiers += (tiers.empty() ? "" : ";") + t;
     const auto v = versions.find(j.id);
-    const std::string prefix = csv_field(study) + "," + j.key + "," + csv_field(tiers) + "," +
-                               csv_field(v == versions.end() ? "" : v->second) + "," +
+    const std::string prefix = csv_field(study) + "," + j.key + "," + csv_field(joined_tiers(j)) +
+                               "," + csv_field(v == versions.end() ? "" : v->second) + "," +
                                csv_field(j.params_json) + ",";
     auto& rows = new_rows[j.key];
     for (const MetricValue* m : metrics[j.id])
@@ -652,14 +654,7 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
       for (const auto& r : new_rows[key])
         text << r << "\n";
     }
-  const std::filesystem::path tmp = out_file.string() + ".tmp";
-  {
-    std::ofstream out{tmp, std::ios::trunc};
-    out << text.str();
-    if (!out.flush())
-      throw std::runtime_error("cannot write " + tmp.string());
-  }
-  std::filesystem::rename(tmp, out_file);
+  write_file_atomic(out_file, text.str());
   log << out_file.string() << ": " << added << " jobs added, " << replaced << " replaced, " << kept
       << " kept from the file";
   if (stale)

@@ -41,7 +41,8 @@ int cmd_export(const std::filesystem::path& db, const std::string& study, const 
 int cmd_publish(const std::filesystem::path& db, const std::string& study,
                 const std::filesystem::path& out_file, std::ostream& log);
 
-// RFC 4180 field quoting.
+// RFC 4180 field quoting, and its inverse: one line (no embedded line breaks) into its fields.
 std::string csv_field(const std::string& s);
+std::vector<std::string> csv_split(const std::string& line);
 
 } // namespace sph::runner

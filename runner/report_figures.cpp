@@ -1,5 +1,6 @@
 // Parsing and validation of the [[figures]] tables of a study file (docs/report.md).
 #include "report_figures.hpp"
+#include "commands.hpp"
 
 #include "params.hpp"
 #include "report_figures_toml.hpp"
@@ -373,21 +374,12 @@ std::string read_text(const std::filesystem::path& p) {
   return ss.str();
 }
 
+// A reference file's fields (RFC 4180, commands.hpp), trimmed of blanks and a carriage return.
 std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : line) {
-    if (c == ',') {
-      out.push_back(cur);
-      cur.clear();
-    } else if (c != '\r') {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
+  std::vector<std::string> out = csv_split(line);
   for (auto& s : out) {
-    auto b = s.find_first_not_of(" \t\"");
-    auto e = s.find_last_not_of(" \t\"");
+    auto b = s.find_first_not_of(" \t\r");
+    auto e = s.find_last_not_of(" \t\r");
     s = b == std::string::npos ? "" : s.substr(b, e - b + 1);
   }
   return out;

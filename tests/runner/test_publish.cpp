@@ -2,12 +2,14 @@
 // docs/results/<study>.csv, one row per job and metric with exactly the header
 // `study,job,tier,code_version,params,metric,value`; values round-trip; a second database adds
 // its jobs and keeps the file's others; a file of another shape is refused and left unchanged.
+#include "commands.hpp"
 #include "e2e_helpers.hpp"
 
 #include <gtest/gtest.h>
 
 #include <map>
 
+using namespace sph::runner;
 using namespace sph::runner::test;
 namespace fs = std::filesystem;
 
@@ -64,11 +66,7 @@ TEST(Publish, OneRowPerJobAndMetricThatRoundTrips) {
       db,
       "SELECT printf('%.17g', value) FROM metrics m JOIN jobs j ON j.id=m.job_id WHERE j.key='" +
           key + "' AND m.name='err'"));
-  std::string quoted = "\"";
-  for (char c : params)
-    quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  quoted += "\"";
-  const std::string prefix = "pub," + key + ",quick," + version + "," + quoted + ",err,";
+  const std::string prefix = "pub," + key + ",quick," + version + "," + csv_field(params) + ",err,";
   bool found = false;
   for (const auto& l : lines)
     if (l.rfind(prefix, 0) == 0) {
