@@ -31,10 +31,11 @@ struct Frequency {
 // Frequency from upward zero crossings of the mean-removed signal (samples with t >= t_start),
 // crossing times located by linear interpolation between samples. f = cycles / (t_last - t_first)
 // over the first and last crossing. A crossing counts only after the signal has gone below
-// -hysteresis * (max-min)/2 since the previous one (rejects noise around zero).
-// Needs at least 2 crossings (1 cycle); otherwise f = 0, cycles = 0.
+// -hysteresis * (max-min)/2 since the previous one: half a swing by default, so particle noise
+// around zero (SPH force signals jitter by a quarter of their amplitude from sample to sample)
+// does not count extra crossings. Needs at least 2 crossings (1 cycle); otherwise f = 0, cycles = 0.
 Frequency zero_crossing_frequency(const std::vector<double>& t, const std::vector<double>& f,
-                                  double t_start = -1e300, double hysteresis = 0.1);
+                                  double t_start = -1e300, double hysteresis = 0.5);
 
 // Frequency of the largest peak of the periodogram of the mean-removed signal (samples resampled
 // to a uniform grid by linear interpolation, Hann window), refined by fitting a parabola to the
