@@ -462,8 +462,9 @@ private:
     nl_.build(cells_, p_.r, kernel_);
   }
 
-  // CSR of the PPE: row i holds its neighbours (ascending j, as the cell list emits them) and the
-  // diagonal in sorted position.
+  // CSR of the PPE: row i holds its neighbours and the diagonal, columns ascending (ILU(0) and the
+  // diagonal look-ups of the solvers need them sorted). The cell list emits ascending j except in a
+  // periodic domain, where the stencil wraps: such a row is sorted after it is filled.
   void assemble() {
     const std::size_t N = p_.size();
     auto& off = ppe_.offset;
@@ -513,6 +514,19 @@ private:
         val[kdiag] = wall_scale;
         rhs_[i] = 0.0;
       }
+      sort_row(col.data() + off[i], val.data() + off[i], off[i + 1] - off[i]);
+    }
+  }
+
+  // Insertion sort of one CSR row by column (rows hold ~30 entries; already sorted: one pass).
+  static void sort_row(std::int32_t* c, double* v, std::int32_t n) {
+    for (std::int32_t a = 1; a < n; ++a) {
+      const std::int32_t ca = c[a];
+      const double va = v[a];
+      std::int32_t b = a;
+      for (; b > 0 && c[b - 1] > ca; --b)
+        c[b] = c[b - 1], v[b] = v[b - 1];
+      c[b] = ca, v[b] = va;
     }
   }
 };
