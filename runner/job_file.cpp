@@ -49,9 +49,7 @@ void write_file_atomic(const fs::path& path, const std::string& text) {
     throw std::runtime_error("cannot rename '" + tmp.string() + "': " + std::strerror(errno));
 }
 
-namespace {
-
-std::string read_all(const fs::path& path) {
+std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw std::runtime_error("cannot read '" + path.string() + "'");
@@ -59,6 +57,8 @@ std::string read_all(const fs::path& path) {
   ss << in.rdbuf();
   return ss.str();
 }
+
+namespace {
 
 json number_to_json(double x) {
   if (std::isnan(x))
@@ -212,7 +212,7 @@ JobFileResult result_from_json(const std::string& text) {
 }
 
 JobFileSpec read_spec_file(const fs::path& path) {
-  return spec_from_json(read_all(path));
+  return spec_from_json(read_file(path));
 }
 
 void write_result_file(const fs::path& path, const JobFileResult& result) {
@@ -223,7 +223,7 @@ std::optional<JobFileResult> read_result_file(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec))
     return std::nullopt;
-  return result_from_json(read_all(path));
+  return result_from_json(read_file(path));
 }
 
 } // namespace sph::runner

@@ -67,6 +67,8 @@ std::string iso_utc(double unix_s);
 
 // Writes `text` to path.tmp, flushes it to disk and renames it to path. Throws on error.
 void write_file_atomic(const std::filesystem::path& path, const std::string& text);
+// The whole file, byte for byte. Throws std::runtime_error naming the file when it cannot be read.
+std::string read_file(const std::filesystem::path& path);
 
 std::string spec_to_json(const JobFileSpec& spec);
 // Parses a spec; the case must be registered (parameters are typed by its specs).

@@ -2,6 +2,7 @@
 #include "report_figures.hpp"
 #include "commands.hpp"
 
+#include "job_file.hpp"
 #include "params.hpp"
 #include "report_figures_toml.hpp"
 
@@ -365,15 +366,6 @@ private:
   }
 };
 
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in)
-    throw std::runtime_error("cannot read " + p.string());
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // A reference file's fields (RFC 4180, commands.hpp), trimmed of blanks and a carriage return.
 std::vector<std::string> split_csv_line(const std::string& line) {
   std::vector<std::string> out = csv_split(line);
@@ -451,7 +443,7 @@ std::vector<FigureSpec> parse_figures_text(const std::string& text, const std::s
 
 std::vector<FigureSpec> load_figures(const std::filesystem::path& study_file,
                                      const std::vector<ParamSpec>& specs) {
-  return parse_figures_text(read_text(study_file), study_file.string(), specs);
+  return parse_figures_text(read_file(study_file), study_file.string(), specs);
 }
 
 } // namespace sph::runner

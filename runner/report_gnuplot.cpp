@@ -1,5 +1,6 @@
 // Figures of `runner report`: gnuplot scripts with their data inline (datablocks), run as a
 // separate process; an image is redrawn only when the hash of its script changed.
+#include "job_file.hpp"
 #include "job_key.hpp"
 #include "process.hpp"
 #include "report.hpp"
@@ -48,26 +49,6 @@ std::string num(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17g", v);
   return buf;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-void write_text_atomic(const fs::path& p, const std::string& text) {
-  fs::path tmp = p;
-  tmp += ".tmp";
-  {
-    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
-    o << text;
-    o.flush();
-    if (!o)
-      throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, p);
 }
 
 // Finds an executable: a path with '/', or a name in PATH.
@@ -281,7 +262,7 @@ DrawOutcome draw_figure(const std::string& program, const std::string& version,
   const std::string hash = sha256_hex(version + "\n" + script);
   const fs::path hash_path = out_dir / (name + ".sha256");
   if (fs::exists(image_path) && fs::exists(hash_path) && fs::file_size(image_path) > 0) {
-    std::string stored = read_text(hash_path);
+    std::string stored = read_file(hash_path);
     while (!stored.empty() && std::isspace(static_cast<unsigned char>(stored.back())))
       stored.pop_back();
     if (stored == hash) {
@@ -297,9 +278,9 @@ DrawOutcome draw_figure(const std::string& program, const std::string& version,
   if (pos != std::string::npos)
     runnable.replace(pos, set_output.size(), "set output " + quote(tmp_image));
   const fs::path gp = out_dir / (name + ".gp");
-  write_text_atomic(gp, script);
+  write_file_atomic(gp, script);
   const fs::path run_gp = out_dir / (name + ".run.gp");
-  write_text_atomic(run_gp, runnable);
+  write_file_atomic(run_gp, runnable);
   const fs::path log = out_dir / (name + ".log");
   std::atomic<int> stop{0};
   std::string cd = "cd " + quote(fs::absolute(out_dir).string());
@@ -322,7 +303,7 @@ DrawOutcome draw_figure(const std::string& program, const std::string& version,
     return out;
   }
   fs::rename(out_dir / tmp_image, image_path);
-  write_text_atomic(hash_path, hash + "\n");
+  write_file_atomic(hash_path, hash + "\n");
   fs::remove(log, ec);
   out.drawn = true;
   return out;

@@ -37,15 +37,6 @@ extern "C" void on_task_term(int) {
   g_task_stop.store(1);
 }
 
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in)
-    throw std::runtime_error("cannot read '" + p.string() + "'");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
   for (char c : s)
@@ -307,7 +298,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
 }
 
 int run_slurm_task(const fs::path& manifest_path, int task) {
-  json m = json::parse(read_all(manifest_path));
+  json m = json::parse(read_file(manifest_path));
   if (m.value("format", "") != manifest_format)
     throw std::runtime_error("'" + manifest_path.string() + "' is not a runner manifest");
   const auto& tasks = m.at("tasks");
@@ -398,7 +389,7 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
     subs.push_back({s.id, s.array_id, s.dir, std::nullopt, "", ""});
   for (auto& sub : subs) {
     try {
-      json m = json::parse(read_all(sub.dir / "manifest.json"));
+      json m = json::parse(read_file(sub.dir / "manifest.json"));
       if (!m.at("timeout_s").is_null())
         sub.timeout = m.at("timeout_s").get<double>();
       sub.study = m.value("study", "");
@@ -435,7 +426,7 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
       ChildOutcome c;
       std::string host = "?", slurm_id = j.slurm_job_id;
       try {
-        json o = json::parse(read_all(outcome));
+        json o = json::parse(read_file(outcome));
         c.spawn_error = o.value("spawn_error", "");
         c.pid = o.value("pid", 0);
         c.exited = o.value("exited", false);
@@ -460,7 +451,7 @@ IngestReport ingest_slurm(Store& store, std::ostream& out) {
           study_name = store.a_study_of_job(j.id).value_or("");
         fs::path src;
         try {
-          src = json::parse(read_all(sub.dir / "specs" / (stem + ".spec.json")))
+          src = json::parse(read_file(sub.dir / "specs" / (stem + ".spec.json")))
                     .value("output_dir", std::string());
         } catch (...) {
         }
