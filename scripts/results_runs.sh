@@ -37,6 +37,7 @@ step cavity3d_re100 studies/cavity3d.toml --tier re100             # 4 jobs, ~62
 step cavity3d_re1000 studies/cavity3d.toml --tier machine --where Re=1000 # 2 jobs, ~15 min
 step tvf_cylinder studies/tvf_cylinder.toml --where D_over_dx=20 --where domain_height=16 \
   --where refinement_band=0                                        # 1 job, ~42 min
+step tvf_cavity_re100 studies/tvf_cavity.toml --tier re100             # 3 jobs, ~1.3 h (seed 002's own cavity)
 # Contact SPH (seed 003): the README's table quotes these tiers (CPU times from docs/contact.md)
 step contact_zeta studies/godunov_zeta.toml --tier paper           # 8 jobs, ~15 min
 step contact_cylinders studies/godunov_cylinders.toml --tier smallest # 6 jobs, ~6 min
