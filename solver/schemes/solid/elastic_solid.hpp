@@ -36,8 +36,9 @@
 //                             psi = G/2 (tr C + 3 - D - 3) - G ln J + lambda/2 (ln J)^2
 //   Damping: the Kelvin-Voigt numerical damping of SPHinXsys' NumericalDampingRightCauchy
 //     (a viscous PK2 stress proportional to the Green-Lagrange strain rate, scaled by rho0 c h),
-//     here with one coefficient for every component (SPHinXsys: c0 for the normal components,
-//     the shear wave speed for the others, times 0.0625 in Integration1stHalfPK2RightCauchy).
+//     here with one coefficient for every component (SPHinXsys: 0.5 rho0 c h dE with c the bulk
+//     sound speed for the normal components and the shear-wave speed for the others, times 0.125
+//     in Integration1stHalfPK2RightCauchy). In the stress, S stays symmetric: torque-free.
 //   Time step (acoustic, as SPHinXsys' AcousticTimeStep): dt = cfl h / (c_p + |v|max),
 //     c_p = sqrt((lambda + 2 G) / rho0) the P-wave speed (the fastest wave of the solid).
 //   Time integration: velocity Verlet (kick-drift-kick): v += dt/2 a; x += dt v; F, dF (dF from
