@@ -37,6 +37,8 @@ step cavity3d_re100 studies/cavity3d.toml --tier re100             # 4 jobs, ~62
 step cavity3d_re1000 studies/cavity3d.toml --tier machine --where Re=1000 # 2 jobs, ~15 min
 step tvf_cylinder studies/tvf_cylinder.toml --where D_over_dx=20 --where domain_height=16 \
   --where refinement_band=0                                        # 1 job, ~42 min
+step cantilever studies/cantilever.toml                            # 9 jobs, ~3 min (docs/solid.md)
+step cantilever_fine studies/cantilever.toml --tier fine           # 1 more job, ~3 min
 step alsph_small studies/alsph_dt.toml --tier small                # 8 jobs, ~3 h
 # ISPH at Re = 1000, the README's five rows: 7, 11, 11, 40 and 74 CPU-min (dx = 0.005: 5-6 h, not run)
 for job in "visc04 0.025" "visc04 0.02" "visc03 0.02" "visc04 0.0125" "visc04 0.01"; do
