@@ -6,7 +6,8 @@
 //                cancelled?  -> save a checkpoint, return Cancelled
 //                case.before_step        (boundary hooks: inflow/outflow, ghosts, sponges, ...)
 //                scheme.advance(t, t_end)  (a failed step -> Diverged)
-//                fluid speed bound        (not finite or above case.speed_bound() -> Diverged)
+//                speed bound              (a fluid or solid speed not finite or above
+//                                          case.speed_bound() -> Diverged)
 //                case.after_step         (probes, series, steady state -> may end the run)
 //                checkpoint when due (every N steps / M s), progress
 //        case.finish (final metrics and outputs), scheme.add_metrics, the loop's cost metrics.
@@ -66,7 +67,7 @@ public:
   // After the scheme's init() on the initial configuration (initial samples, reference values).
   virtual void start(FlowScheme<D>&) {}
   virtual double t_end() const = 0;
-  // Diverged when a fluid speed exceeds this (or is not finite).
+  // Diverged when a fluid or solid speed exceeds this (or is not finite).
   virtual double speed_bound() const = 0;
 
   // Boundary hooks before each step.
@@ -197,7 +198,7 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     n_max = std::max(n_max, static_cast<double>(p.size()));
     double vmax = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.kind[i] == Kind::Fluid) {
+      if (p.kind[i] == Kind::Fluid || p.kind[i] == Kind::Solid) {
         const double v2 = p.v[i].squaredNorm();
         vmax = std::max(vmax, std::isfinite(v2) ? std::sqrt(v2) : 1e300);
       }

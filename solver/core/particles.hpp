@@ -15,8 +15,9 @@
 
 namespace sph {
 
-// What a particle is; boundary treatments and diagnostics select on it.
-enum class Kind : std::uint8_t { Fluid = 0, Wall = 1, Body = 2, Buffer = 3 };
+// What a particle is; boundary treatments and diagnostics select on it. Solid: the material of an
+// elastic body, integrated by a solid scheme (schemes/solid/); fluid schemes do not take it yet.
+enum class Kind : std::uint8_t { Fluid = 0, Wall = 1, Body = 2, Buffer = 3, Solid = 4 };
 
 template <int D>
 class Particles {

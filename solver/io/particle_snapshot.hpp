@@ -11,8 +11,8 @@
 //
 // A snapshot holds, for every particle of every kind: Points (x, y, z; z = 0 in 2D), velocity
 // (3 components), pressure, density, mass, volume, smoothing_length, kind (0 fluid, 1 wall,
-// 2 body, 3 buffer: core/particles.hpp's Kind), id (index at creation), and every extra named
-// field the particle set carries (scheme or case fields such as drho_dt or v_wall), plus the
+// 2 body, 3 buffer, 4 solid: core/particles.hpp's Kind), id (index at creation), and every extra
+// named field the particle set carries (scheme or case fields such as drho_dt or v_wall), plus the
 // field-data array TimeValue.
 //
 // Layout in a job's output directory: particles.pvd and particles/particles_NNNNNN.vtp. Every

@@ -12,8 +12,9 @@
 //
 // A scheme sees the particles through Flow: fluid particles are integrated; Wall and Body
 // particles are solid (not integrated; their prescribed velocity, when the case gives one, is the
-// vector field flow.v_wall). Adding a scheme: one folder schemes/<name>/ whose .cpp registers a
-// SchemeInfo beside its class (core/registry.hpp).
+// vector field flow.v_wall). A solid scheme (schemes/solid/) integrates Solid particles and holds
+// its Wall particles fixed (a clamp). Adding a scheme: one folder schemes/<name>/ whose .cpp
+// registers a SchemeInfo beside its class (core/registry.hpp).
 #pragma once
 
 #include "core/domain.hpp"
@@ -56,6 +57,10 @@ struct Flow {
   // Open boundaries: sets the pressure of the Buffer particles on the current neighbour list,
   // called by a scheme whenever it updates pressures (empty: buffers keep theirs).
   std::function<void(Particles<D>&, const NeighborList<D>&)> buffer_pressure;
+  // Elastic material of the Solid particles (solid schemes, schemes/solid/): Young's modulus and
+  // Poisson ratio (in 2D the 3D Lame constants: a plane-strain slab).
+  double youngs_modulus = 0.0;
+  double poisson_ratio = 0.0;
   double nu() const { return U * L / Re; }
 };
 

@@ -135,6 +135,20 @@ TEST(Checkpoint, CancelledJobResumesToTheSameBits) {
   EXPECT_CONTAINS(msg, "resumed from step 13"); // cancelled at 45%: saved at step 1350
 }
 
+// The elastic solid (total-Lagrangian: a neighbour list and correction matrices of the reference
+// configuration, rebuilt from the saved reference positions on resume) under its own weight.
+TEST(Checkpoint, CantileverResumesToTheSameBits) {
+  Params p = case_defaults("cantilever");
+  p["L"] = 0.1;
+  p["H"] = 0.02;
+  p["H_over_dx"] = std::int64_t{4};
+  p["t_end"] = 0.02;
+  std::string msg = expect_resume_is_exact(
+      "cantilever", p, 0.5, 50,
+      {"wall_time_s", "time_per_step_s", "cpu_time_per_step_s", "time_per_particle_step_s"});
+  EXPECT_CONTAINS(msg, "resumed at t = ");
+}
+
 // A real scheme: the transport-velocity WCSPH Taylor-Green vortex (particles re-sorted by cell
 // every step, dual-criteria time steps) resumes from its checkpoint to the same bits.
 TEST(Checkpoint, TaylorGreenResumesToTheSameBits) {

@@ -62,7 +62,7 @@ TEST(StudyErrors, UnknownCaseListsKnownOnes) {
   EXPECT_CONTAINS(e, "test.toml:3");
   EXPECT_CONTAINS(e, "unknown case \"patch_tset\"");
   EXPECT_CONTAINS(e, "did you mean 'patch_test'");
-  EXPECT_CONTAINS(e, "known cases: 'cavity_cylinder', "); // listed by name
+  EXPECT_CONTAINS(e, "known cases: 'cantilever', 'cavity_cylinder', "); // listed by name
   EXPECT_CONTAINS(e, "'patch_test'");
 }
 
