@@ -6,7 +6,8 @@
 // Domain: fluid in [0, L] x [0, H] (domain_length, domain_height) on the cell-centred lattice of
 // spacing dx, u = (U, 0) and rho = rho0 everywhere at t = 0; with perturb > 0 the initial fluid is
 // shifted at random (the disturbance must leave through the open boundaries). Inflow: the emitter
-// buffer of buffer_layers columns upstream of x = 0 moving at (U, 0) (density rho0, pressure 0);
+// buffer of buffer_layers columns upstream of x = 0 moving at (U, 0) (density rho0, pressure 0, or
+// with inlet_pressure = "extrapolated" the Shepard average of the fluid pressures around);
 // outflow: the disposer buffer downstream of x = L (velocity and density frozen, pressure 0),
 // deleted buffer_layers columns on; top and bottom: free surfaces with the Lagrangian free-stream
 // boundary condition of Zhang et al. 2023 (surface indicator, near-surface density rule,
@@ -65,6 +66,7 @@ public:
     c.layers = static_cast<int>(get_int(prm_, "buffer_layers"));
     c.lateral_margin = get_real(prm_, "lateral_margin");
     c.u_in = [](const V2&, double) { return V2(U, 0.0); };
+    c.extrapolate_inlet_pressure = get_string(prm_, "inlet_pressure") == "extrapolated";
     dom_ = std::make_unique<open_boundary::FreeStreamDomain<2>>(c);
     dom_->fill(p, [](const V2&) { return true; });
     // The disturbed start: the initial fluid (not the inlet buffer) shifted at random.
@@ -185,6 +187,14 @@ private:
 
 } // namespace
 
+static ParamSpec inlet_pressure_spec() {
+  ParamSpec s{"inlet_pressure", ParamType::String, std::string("reference"),
+              "pressure of the inlet buffer: reference (0, SPHinXsys' emitter) or extrapolated "
+              "(Shepard average of the fluid pressures around)"};
+  s.choices = {"reference", "extrapolated"};
+  return s;
+}
+
 CaseInfo make_free_stream_box_case() {
   CaseInfo c;
   c.name = "free_stream_box";
@@ -199,6 +209,7 @@ CaseInfo make_free_stream_box_case() {
       {"Re", ParamType::Real, 100.0, "Reynolds number U * 1 / nu", 0.0, 1e6, true},
       {"buffer_layers", ParamType::Int, std::int64_t{4},
        "lattice columns of the inflow and outflow buffers (>= kernel support / dx)", 1.0, 100.0},
+      inlet_pressure_spec(),
       {"lateral_margin", ParamType::Real, 1.0,
        "fluid farther than this outside the top and bottom is deleted", 0.0, 1e4},
       {"perturb", ParamType::Real, 0.0,
