@@ -58,6 +58,7 @@
 // and series after_step. Checkpoints: the particles as they end a step (their count changes:
 // inflow, outflow, ghosts), the series, the averaging sums, the scheme's timers and counters. A
 // resumed job continues bit for bit (tested).
+#include "boundaries/open_boundary.hpp"
 #include "cases/loop_params.hpp"
 #include "cases/shedding.hpp"
 #include "cases/time_loop.hpp"
@@ -78,24 +79,6 @@ namespace {
 
 constexpr int D = 2;
 using V2 = Vec<2>;
-
-// Buffer pressure: inlet (x < 0) Shepard average of fluid neighbours; outlet p = 0.
-struct BufferPressureOp {
-  const std::vector<Kind>& kind;
-  const std::vector<V2>& r;
-  std::vector<double>& p;
-  struct Acc {
-    double num = 0.0, den = 0.0;
-  };
-  Acc init(std::size_t) const { return {}; }
-  void pair(std::size_t, const Pair<D>& q, Acc& a) const {
-    if (kind[q.j] == Kind::Fluid)
-      a.num += q.W * p[q.j], a.den += q.W;
-  }
-  void finish(std::size_t i, const Acc& a) {
-    p[i] = (r[i][0] < 0.0 && a.den > 0.0) ? a.num / a.den : 0.0;
-  }
-};
 
 class CylinderChannelCase final : public FlowCase<2> {
 public:
@@ -157,8 +140,11 @@ public:
     flow.rho0 = rho, flow.U = U, flow.L = 1.0, flow.Re = Re_, flow.dx = dx_, flow.dt = dt_;
     flow.normal = normal_;
     flow.slip_walls = {SlipWall{1, 0.0, +1}, SlipWall{1, H_, -1}}; // bottom, top
+    // Buffer pressure (boundaries/open_boundary.hpp): inlet (x < 0) the Shepard average of the
+    // fluid neighbours' pressures; outlet p = 0.
     flow.buffer_pressure = [](Particles<2>& q, const NeighborList<2>& list) {
-      BufferPressureOp op{q.kind, q.r, q.p};
+      auto inlet = [&](std::size_t i) { return q.r[i][0] < 0.0; };
+      open_boundary::BufferPressure<D, decltype(inlet)> op{q.kind, q.p, inlet, 0.0};
       interact(list, op, [&](std::size_t i) { return q.kind[i] == Kind::Buffer; });
     };
     return flow;

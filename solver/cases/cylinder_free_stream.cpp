@@ -20,6 +20,14 @@
 // the top and bottom. A periodic box cannot: the flow displaced by the cylinder stays within H,
 // as between slip walls, so the default height is 16 D (at D/dx = 10: C_D 1.84 with H = 8 D,
 // 1.68 with 16 D; docs/tvf.md).
+// Open boundaries (boundary = "free_stream"; the default "periodic_sponge" is the box above):
+// fluid in [0, L] x [0, H] outside the cylinder, an emitter upstream of x = 0 at U_inf(t), a
+// disposer downstream of x = L and the Lagrangian free-stream boundary of Zhang et al. 2023 on the
+// top and bottom (boundaries/free_stream_domain.hpp, as SPHinXsys' test_2d_free_stream_around_
+// cylinder); no sponge zones, fluid farther than lateral_margin D outside H deleted. SPHinXsys'
+// domain is 17 D x 8 D from its emitter with the cylinder 7 D downstream of it (D = 2: x in
+// [-4, 30], y in [0, 16], centre (10, 8)): domain_length = 17, domain_height = 8,
+// upstream_length = 7 here. Uniform resolution only.
 // Variable resolution (seed 002 section 4.4; refinement_band b > 0): the band |y - H/2| < b along
 // the whole box (SPHinXsys' refinement region is such a band) holds particles of spacing
 // dx = D / D_over_dx, the rest spacing 2 dx (one refinement level, as SPHinXsys); each particle
@@ -49,6 +57,7 @@
 // after the sponge, a force not finite) follow each step. A diverged run reports t_stop.
 // Checkpoints: particles, series (cfs/t, cd, cl, cdv), the partial sample bin and the case's
 // scalars (cfs/loop), the scheme's state; resumes bit for bit (tests/runner/test_checkpoint.cpp).
+#include "boundaries/free_stream_domain.hpp"
 #include "cases/case.hpp"
 #include "cases/shedding.hpp"
 #include "cases/time_loop.hpp"
@@ -85,6 +94,7 @@ public:
     sample_interval_ = get_real(prm, "sample_interval");
     next_sample_ = sample_interval_;
     nudged_ = !(nudge_ > 0.0);
+    open_ = get_string(prm, "boundary") == "free_stream";
   }
 
   Flow<2> build(Particles<2>& p) override {
@@ -104,6 +114,8 @@ public:
 
     const double h = get_real(prm_, "h_over_dx") * dx;
     const double support = kernel_support_factor(get_string(prm_, "kernel")) * h;
+    if (open_)
+      return build_open(p, nx, ny, h, support);
     if (band > 0.0 && (nband * dxc < R + support || nband * dxc > 0.5 * H_ - Ly_))
       throw std::invalid_argument(
           "cylinder_free_stream: refinement_band must hold the cylinder and a kernel support and "
@@ -116,16 +128,7 @@ public:
           "1.5 + lateral_sponge_length <= domain_height / 2)");
 
     const double m = rho0 * dx * dx;
-    for (int k = 0;; ++k) { // cylinder rings, outermost first
-      const double rk = R - (k + 0.5) * dx;
-      if (rk <= 0.25 * dx || (k + 0.5) * dx > support)
-        break;
-      const int n = std::max(1, static_cast<int>(std::lround(2.0 * pi * rk / dx)));
-      for (int a = 0; a < n; ++a) {
-        const double th = (a + 0.5) * 2.0 * pi / n;
-        p.add(c_ + rk * V2(-std::cos(th), std::sin(th)), m, rho0, Kind::Wall);
-      }
-    }
+    add_cylinder(p, support);
     const std::size_t n_wall = p.size();
     for_each_lattice_point<2>(
         {0, 0}, {nx, ny}, dxc, [&](const V2& x, const std::array<int, 2>& ij) {
@@ -155,8 +158,11 @@ public:
   // The case's own test after the sponge zones (after_step).
   double speed_bound() const override { return std::numeric_limits<double>::infinity(); }
 
-  // The smooth start: the whole box driven by dU_inf/dt.
+  // The smooth start: the whole box driven by dU_inf/dt; the open boundaries' emitter and
+  // disposer.
   void before_step(FlowScheme<2>& s, const LoopState& at) override {
+    if (open_ && dom_->before_step(*p_, at.t + 0.5 * s.stable_dt()))
+      s.particles_changed();
     s.set_body_acceleration(V2(du_inf(at.t), 0.0));
   }
   bool after_step(FlowScheme<2>& s, const LoopState& at, const StepStats& info) override {
@@ -168,9 +174,12 @@ public:
     for (std::size_t i = 0; i < p.size(); ++i) {
       if (p.kind[i] != Kind::Fluid)
         continue;
-      const double xi = std::max(
-          {(p.r[i][0] - x_sponge_) / Ls_,
-           Ly_ > 0.0 ? (std::abs(p.r[i][1] - 0.5 * H_) - (0.5 * H_ - Ly_)) / Ly_ : 0.0, 0.0});
+      const double xi =
+          open_ ? 0.0
+                : std::max(
+                      {(p.r[i][0] - x_sponge_) / Ls_,
+                       Ly_ > 0.0 ? (std::abs(p.r[i][1] - 0.5 * H_) - (0.5 * H_ - Ly_)) / Ly_ : 0.0,
+                       0.0});
       if (xi > 0.0)
         p.v[i] = vinf + std::exp(-sigma_ * xi * xi * info.dt) * (p.v[i] - vinf);
       const double v2 = p.v[i].squaredNorm();
@@ -228,8 +237,9 @@ public:
         sigma0 = wcsph_tvf::lattice_number_density<2>(W, dx_);
       });
       double lo = 1e300, hi = -1e300;
+      const int surf = p.find_scalar("surface_indicator"); // open boundaries: bulk fluid only
       for (std::size_t i = 0; i < p.size(); ++i)
-        if (p.kind[i] == Kind::Fluid) {
+        if (p.kind[i] == Kind::Fluid && (surf < 0 || p.scalar(surf)[i] == 0.0)) {
           double sw = W0;
           for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k)
             sw += nl.W[k];
@@ -243,6 +253,8 @@ public:
     res.add("advection_steps", static_cast<double>(at.steps));
     res.add("wall_s", wall);
     res.add("n_fluid", static_cast<double>(n_fluid));
+    if (open_)
+      res.add("mass_lost", dom_->mass_lost());
 
     if (!ctx_.output_dir.empty()) {
       std::filesystem::create_directories(ctx_.output_dir);
@@ -258,15 +270,23 @@ public:
   }
 
   std::vector<std::string> state_names() const override {
-    return {"cfs/t", "cfs/cd", "cfs/cl", "cfs/cdv", "cfs/loop"};
+    std::vector<std::string> n{"cfs/t", "cfs/cd", "cfs/cl", "cfs/cdv", "cfs/loop"};
+    if (open_)
+      for (auto& k : dom_->state_names("cfs"))
+        n.push_back(k);
+    return n;
   }
   void save_state(StateArrays& out) const override {
+    if (open_)
+      dom_->save_state(out, "cfs");
     out["cfs/t"] = ts_, out["cfs/cd"] = cds_, out["cfs/cl"] = cls_, out["cfs/cdv"] = cdvs_;
     out["cfs/loop"] = {bin_.t,       bin_.cd,      bin_.cl,       bin_.cdv,
                        bin_.n,       next_sample_, tv_ratio_max_, nudged_ ? 1.0 : 0.0,
                        wall_so_far()};
   }
   void load_state(const StateArrays& in) override {
+    if (open_)
+      dom_->load_state(in, "cfs");
     ts_ = in.at("cfs/t"), cds_ = in.at("cfs/cd"), cls_ = in.at("cfs/cl");
     cdvs_ = in.at("cfs/cdv");
     const auto& loop = in.at("cfs/loop");
@@ -296,7 +316,49 @@ private:
   Bin bin_;
   double next_sample_ = 0.0, tv_ratio_max_ = 0.0, wall_before_ = 0.0;
   bool nudged_ = true;
+  bool open_ = false; // boundary = "free_stream"
+  std::unique_ptr<open_boundary::FreeStreamDomain<2>> dom_;
   clock::time_point t_start_ = clock::now();
+
+  // The cylinder rings (outermost first) as wall particles.
+  void add_cylinder(Particles<2>& p, double support) const {
+    const double dx = dx_, m = rho0 * dx * dx;
+    for (int k = 0;; ++k) {
+      const double rk = R - (k + 0.5) * dx;
+      if (rk <= 0.25 * dx || (k + 0.5) * dx > support)
+        break;
+      const int n = std::max(1, static_cast<int>(std::lround(2.0 * pi * rk / dx)));
+      for (int a = 0; a < n; ++a) {
+        const double th = (a + 0.5) * 2.0 * pi / n;
+        p.add(c_ + rk * V2(-std::cos(th), std::sin(th)), m, rho0, Kind::Wall);
+      }
+    }
+  }
+
+  // boundary = "free_stream": the cylinder, the fluid lattice of [0, L] x [0, H] outside it and
+  // the open boundaries (boundaries/free_stream_domain.hpp).
+  Flow<2> build_open(Particles<2>& p, int nx, int ny, double h, double support) {
+    if (get_real(prm_, "refinement_band") > 0.0)
+      throw std::invalid_argument(
+          "cylinder_free_stream: boundary = free_stream runs at uniform resolution only");
+    if (c_[0] - R < 2.0 * support || c_[0] + R + D > L_ || R + D > 0.5 * H_)
+      throw std::invalid_argument("cylinder_free_stream: the cylinder must lie one D inside the "
+                                  "open domain (upstream_length + 1.5 <= domain_length, "
+                                  "domain_height >= 3)");
+    add_cylinder(p, support);
+    open_boundary::FreeStreamDomain<2>::Config c;
+    c.n = {nx, ny}, c.dx = dx_, c.rho0 = rho0, c.h = h;
+    c.layers = static_cast<int>(std::ceil(support / dx_ - 1e-9)) + 1;
+    c.lateral_margin = get_real(prm_, "lateral_margin");
+    c.u_in = [this](const V2&, double t) { return V2(u_inf(t), 0.0); };
+    dom_ = std::make_unique<open_boundary::FreeStreamDomain<2>>(c);
+    dom_->fill(p, [&](const V2& x) { return (x - c_).norm() >= R; });
+    Flow<2> f;
+    f.v_wall = p.add_vector("v_wall"); // zero: the cylinder is at rest
+    dom_->attach(p, f);
+    f.rho0 = rho0, f.U = U, f.L = D, f.Re = Re_, f.dx = dx_;
+    return f;
+  }
 
   double u_inf(double t) const {
     return t < ramp_ ? 0.5 * U * (1.0 - std::cos(pi * t / ramp_)) : U;
@@ -316,6 +378,15 @@ private:
 };
 
 } // namespace
+
+static ParamSpec boundary_spec() {
+  ParamSpec s{"boundary", ParamType::String, std::string("periodic_sponge"),
+              "periodic_sponge: periodic box with relaxation zones; free_stream: emitter inflow, "
+              "disposer outflow, Lagrangian free-stream top and bottom (Zhang et al. 2023)"};
+  s.choices = {"periodic_sponge", "free_stream"};
+  s.neutral_default = true;
+  return s;
+}
 
 CaseInfo make_cylinder_free_stream_case() {
   CaseInfo c;
@@ -357,6 +428,18 @@ CaseInfo make_cylinder_free_stream_case() {
        "D/U (0: none; 0.25 keeps 97 % of a St = 0.165 lift, 29 % at 1 U/D, 0.7 % at 2 U/D)",
        0.0, 100.0},
       {"speed_bound", ParamType::Real, 5.0, "diverged when max |u| exceeds this many U", 1.0, 1e6},
+      boundary_spec(),
+      {"lateral_margin",
+       ParamType::Real,
+       2.0,
+       "boundary = free_stream: fluid farther than this outside the top and bottom is deleted, "
+       "in D",
+       0.0,
+       1000.0,
+       false,
+       {},
+       true,
+       true},
       {"sample_interval", ParamType::Real, 0.05,
        "force series sample interval in D/U (each sample averages the steps of its interval)", 0.0,
        1e3, true},

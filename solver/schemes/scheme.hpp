@@ -61,6 +61,23 @@ struct Flow {
   // Poisson ratio (in 2D the 3D Lame constants: a plane-strain slab).
   double youngs_modulus = 0.0;
   double poisson_ratio = 0.0;
+  // Free-surface / free-stream boundary pieces (boundaries/open_boundary.hpp) a scheme calls
+  // inside its step; a scheme without them (SchemeInfo::free_stream false) rejects a flow that
+  // sets any. Empty: none.
+  //   before_density(p, list)  before the density reinitialisation, on the step's neighbour list
+  //                            (e.g. the surface indicator from the position divergence)
+  //   after_density(p, list)   after it (e.g. the near-surface density rule)
+  //   after_kick(p, t)         after every velocity update, at the sub-step's time t (e.g. the
+  //                            free-stream velocity correction of surface particles)
+  //   surface_indicator        scalar field, nonzero on free-surface particles: a scheme's
+  //                            particle-shifting (transport-velocity) correction skips them
+  //                            (SPHinXsys' TransportVelocityCorrection<BulkParticles>); -1: none
+  std::function<void(Particles<D>&, const NeighborList<D>&)> before_density, after_density;
+  std::function<void(Particles<D>&, double)> after_kick;
+  int surface_indicator = -1;
+  bool has_free_stream_hooks() const {
+    return before_density || after_density || after_kick || surface_indicator >= 0;
+  }
   double nu() const { return U * L / Re; }
 };
 
@@ -116,6 +133,10 @@ public:
     throw std::logic_error("this scheme does not take a body acceleration");
   }
 
+  // The case added, removed or re-kinded particles between steps (open boundaries): rebuild what
+  // depends on the particle set (neighbour lists). A scheme that searches every step ignores it.
+  virtual void particles_changed() {}
+
   // Named state carried from one step to the next besides the particle fields (checkpoints).
   virtual std::vector<std::string> state_names() const = 0;
   virtual void save_state(StateArrays& out) const = 0;
@@ -135,7 +156,8 @@ struct SchemeInfo {
   std::string name;
   std::string description; // one line, with the paper
   std::vector<ParamSpec> params;
-  bool slip_walls = false; // imposes Flow::slip_walls
+  bool slip_walls = false;  // imposes Flow::slip_walls
+  bool free_stream = false; // calls Flow's before_density, after_density, after_kick hooks
   std::unique_ptr<FlowScheme<2>> (*make2)(const Params&, const Flow<2>&) = nullptr;
   std::unique_ptr<FlowScheme<3>> (*make3)(const Params&, const Flow<3>&) = nullptr;
 };
@@ -166,6 +188,9 @@ std::unique_ptr<FlowScheme<D>> make_scheme(const Params& prm, const Flow<D>& flo
     throw std::invalid_argument("scheme '" + name + "' does not run in " + std::to_string(D) + "D");
   if (!flow.slip_walls.empty() && !s->slip_walls)
     throw std::invalid_argument("scheme '" + name + "' has no slip walls, which this case needs");
+  if (flow.has_free_stream_hooks() && !s->free_stream)
+    throw std::invalid_argument("scheme '" + name +
+                                "' has no free-stream boundary hooks, which this case needs");
   return make(prm, flow);
 }
 

@@ -319,6 +319,24 @@ TEST(Checkpoint, ContactCylinderArrayResumesToTheSameBits) {
   EXPECT_CONTAINS(msg, "resumed at t = ");
 }
 
+// Open boundaries (issue 19): the particle count and kinds change every few steps (emitter,
+// disposer), the free-stream surface indicator of the last step is a particle field; the masses
+// in and out and the next particle id are the case's state. The empty free-stream box (a
+// perturbed start, so the fields are not uniform) and the cylinder with boundary = free_stream.
+TEST(Checkpoint, OpenBoundariesResumeToTheSameBits) {
+  const std::set<std::string> costs{"wall_s", "time_per_particle_step_s", "wall_time_s",
+                                    "time_per_step_s", "cpu_time_per_step_s"};
+  Params b = case_defaults("free_stream_box");
+  b["t_end"] = 3.0, b["perturb"] = 0.5, b["settle_fraction"] = 0.3;
+  EXPECT_CONTAINS(expect_resume_is_exact("free_stream_box", b, 0.5, 17, costs), "resumed at t = ");
+  Params c = case_defaults("cylinder_free_stream");
+  c["D_over_dx"] = 5.0, c["t_end"] = 3.0, c["ramp_time"] = 1.0, c["sample_interval"] = 0.1;
+  c["boundary"] = std::string("free_stream"), c["domain_length"] = 12.0;
+  c["domain_height"] = 6.0, c["upstream_length"] = 4.0;
+  EXPECT_CONTAINS(expect_resume_is_exact("cylinder_free_stream", c, 0.5, 13, costs),
+                  "resumed at t = ");
+}
+
 // The wcsph_tvf cylinder: the force series, the partial sample bin and the symmetry nudge's flag.
 TEST(Checkpoint, CylinderFreeStreamResumesToTheSameBits) {
   Params p = case_defaults("cylinder_free_stream");

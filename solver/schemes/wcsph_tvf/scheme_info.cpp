@@ -61,9 +61,13 @@ template <int D, class K>
 class Adapter final : public sph::FlowScheme<D> {
 public:
   Adapter(const Options& o, const Flow<D>& flow)
-      : p_(*flow.p), v_wall_(flow.v_wall), o_(o), f_(prepare(flow)), s_(p_, f_, flow.box, o_) {}
+      : p_(*flow.p), v_wall_(flow.v_wall), o_(o), f_(prepare(flow)), s_(p_, f_, flow.box, o_) {
+    s_.set_boundary_hooks({flow.buffer_pressure, flow.before_density, flow.after_density,
+                           flow.after_kick, flow.surface_indicator});
+  }
 
   void init() override { s_.init(); }
+  void particles_changed() override { s_.particles_changed(); }
   void resume() override { s_.resume(r0_, builds_); }
 
   StepStats advance(double& t, double t_end) override {
@@ -167,6 +171,7 @@ SchemeInfo make_wcsph_tvf_scheme() {
   s.description = "Riemann WCSPH, dual-criteria time stepping and transport-velocity correction "
                   "with limiter (Wang, Haidn & Hu, arXiv:2411.13992, seed 002)";
   s.params = wcsph_tvf::table().specs();
+  s.free_stream = true;
   s.make2 = &wcsph_tvf::make<2>;
   s.make3 = &wcsph_tvf::make<3>;
   return s;

@@ -64,6 +64,16 @@
 // v_w* = 2 v_wall - v_i. Wall particles are not integrated. (The dissipation at walls uses e_iw
 // where SPHinXsys uses the wall normal.)
 //
+// Open boundaries (boundaries/open_boundary.hpp; Flow's hooks, set with set_boundary_hooks):
+// Buffer particles (inflow and outflow buffers) are not integrated but drift with their velocity
+// in both half steps (the case prescribes it), and are partners of every pair loop with their own
+// v, p and V = m / rho; Flow::buffer_pressure sets their pressure after every pressure update.
+// A free-stream boundary (Zhang et al. 2023) adds: before_density / after_density around the
+// density reinitialisation, after_kick after every velocity update of the 1st half, and the
+// surface indicator field, whose particles the transport-velocity shift skips (SPHinXsys'
+// TransportVelocityCorrection<BulkParticles>). A case that adds or removes particles calls
+// particles_changed(): the Verlet list is rebuilt on the new set.
+//
 // The transport-velocity magnitude of the over-correction indicator (seed 002, Fig. 1) is
 // |Delta r^tvf_i| / Dt: the shift the correction adds in one advection step over that step.
 #pragma once
@@ -78,6 +88,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -384,6 +395,15 @@ struct SecondHalf {
 
 } // namespace ops
 
+// The open-boundary hooks of a flow (schemes/scheme.hpp, Flow) the scheme calls in its step.
+template <int D>
+struct BoundaryHooks {
+  std::function<void(Particles<D>&, const NeighborList<D>&)> buffer_pressure, before_density,
+      after_density;
+  std::function<void(Particles<D>&, double)> after_kick;
+  int surface_indicator = -1; // scalar field: nonzero = free surface (no TVF shift)
+};
+
 // What one advection step did (for the case's diagnostics).
 struct StepInfo {
   double Dt = 0.0;
@@ -455,6 +475,16 @@ public:
         w += nl_.W[k];
       out[i] = w;
     }
+  }
+
+  void set_boundary_hooks(const BoundaryHooks<D>& b) {
+    hooks_ = b;
+  }
+  // The case added, removed or re-kinded particles since the last step: a new Verlet list (and
+  // cell sort) on the current set, and its pairs.
+  void particles_changed() {
+    vl_->rebuild(p_);
+    pair_geometry();
   }
 
   // Builds the Verlet list and the pairs on the initial positions; the first density summation
@@ -542,6 +572,7 @@ public:
   StepInfo advance_towards(double& t, double t_end) {
     const double Dt_ad = advection_dt(), rem = t_end - t;
     const double Dt = rem <= Dt_ad ? rem : (rem < 2.0 * Dt_ad ? 0.5 * rem : Dt_ad);
+    t0_ = t;
     const StepInfo info = advance(Dt, Dt_ad);
     t = (t_end - t - Dt <= 1e-12 * t_end) ? t_end : t + Dt;
     return info;
@@ -613,6 +644,8 @@ private:
   double h_min_ = 1.0;      // smallest smoothing length (time steps)
   double dt_tv_ = 1.0;      // step over which the transport velocity is measured
   Vec<D> g_body_ = Vec<D>::Zero();
+  BoundaryHooks<D> hooks_;
+  double t0_ = 0.0; // time at the start of the advection step (the hooks' sub-step times)
   std::vector<Vec<D>> wf_prior_, wf_visc_, wf_p_, wf_diss_; // force_on_walls' scratch
   std::vector<double> wf_drho_, wf_trB_;
   std::vector<Mat<D>> wf_B_;
@@ -646,6 +679,8 @@ private:
   }
 
   void density_summation(double, StepInfo&) {
+    if (hooks_.before_density)
+      hooks_.before_density(p_, nl_);
     if (variable()) {
       ops::MassSummation<D> op{p_,
                                p_.scalar(f_.h),
@@ -664,6 +699,8 @@ private:
     for (std::size_t i = 0; i < N; ++i)
       if (!fluid(i))
         p_.V[i] = p_.m[i] / p_.rho[i];
+    if (hooks_.after_density)
+      hooks_.after_density(p_, nl_);
   }
 
   void correction_matrix(double, StepInfo&) {
@@ -701,11 +738,17 @@ private:
     ops::TvfResidue<D> op{p_, B(), g_};
     interact(nl_, op, fluid_only());
     const double* hv = variable() ? p_.scalar(f_.h).data() : nullptr; // eq. (14) with h_i
+    const double* surface = // free-surface particles keep their place (bulk particles only)
+        hooks_.surface_indicator >= 0 ? p_.scalar(hooks_.surface_indicator).data() : nullptr;
     double tv = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : tv)
     for (std::size_t i = 0; i < N; ++i) {
       if (!fluid(i))
         continue;
+      if (surface && surface[i] != 0.0) {
+        shift_[i] = Vec<D>::Zero();
+        continue;
+      }
       const double h = hv ? hv[i] : o_.h, c = o_.tvf_alpha * h * h;
       const double psi =
           o_.tvf == Tvf::Limited ? tvf_limiter(o_.tvf_kappa, h, g_[i].squaredNorm()) : 1.0;
@@ -729,8 +772,11 @@ private:
       // 1st half: density and pressure at the half step, drift, pressure force, kick.
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < N; ++i) {
-        if (!fluid(i))
+        if (!fluid(i)) {
+          if (p_.kind[i] == Kind::Buffer)
+            p_.r[i] += half * p_.v[i];
           continue;
+        }
         p_.rho[i] += half * drho[i];
         p_.p[i] = o_.c0 * o_.c0 * (p_.rho[i] - o_.rho0);
         Vec<D> vt = p_.v[i];
@@ -740,6 +786,8 @@ private:
         }
         p_.r[i] += half * vt;
       }
+      if (hooks_.buffer_pressure)
+        hooks_.buffer_pressure(p_, nl_);
       {
         ops::FirstHalf<D> op{p_,   B(),          f_prior_, original ? &a_tilde_ : nullptr,
                              half, 1.0 / rho0c0, force_,   drho};
@@ -749,11 +797,16 @@ private:
       for (std::size_t i = 0; i < N; ++i)
         if (fluid(i))
           p_.v[i] += (dt / p_.m[i]) * (f_prior_[i] + force_[i] + fd[i]);
-          // 2nd half: drift with the new velocity, continuity and dissipation, density.
+      if (hooks_.after_kick)
+        hooks_.after_kick(p_, t0_ + tau);
+        // 2nd half: drift with the new velocity, continuity and dissipation, density.
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < N; ++i) {
-        if (!fluid(i))
+        if (!fluid(i)) {
+          if (p_.kind[i] == Kind::Buffer)
+            p_.r[i] += half * p_.v[i];
           continue;
+        }
         Vec<D> vt = p_.v[i];
         if (original) {
           vt += half * a_tilde_[i];
