@@ -2,6 +2,7 @@
 // shear_layer, u(x, t) = U0 erf(x / sqrt(4 nu t)) (with images for the slip walls,
 // diagnostics/erf_fit.hpp), run through the case interface (find_case("shear_layer")->run): ports
 // to issue 14's interface unchanged as long as the case keeps its parameters and metrics.
+#include "case_helpers.hpp"
 #include "cases/case.hpp"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <cmath>
 
 using namespace sph;
+using sph::testing::metric;
 
 namespace {
 Params shear_params() {
@@ -18,13 +20,6 @@ Params shear_params() {
   for (const auto& s : find_scheme("contact")->params)
     prm[s.name] = s.default_value;
   return prm;
-}
-double metric(const RunResult& r, const std::string& name) {
-  for (const auto& [k, v] : r.metrics)
-    if (k == name)
-      return v;
-  ADD_FAILURE() << "no metric " << name;
-  return NAN;
 }
 } // namespace
 

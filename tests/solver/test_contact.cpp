@@ -1,4 +1,5 @@
 // Tests of scheme "contact" (seed 003, Parshikov et al.), the shear-layer fit and case.
+#include "case_helpers.hpp"
 #include "cases/case.hpp"
 #include "core/kernels/cubic_spline.hpp"
 #include "core/kernels/wendland_c2.hpp"
@@ -11,6 +12,7 @@
 #include <cmath>
 
 using namespace sph;
+using sph::testing::metric;
 using namespace sph::contact;
 
 // Eqs. (8)-(9): equal states exchange nothing; a symmetric collision stops at the contact with
@@ -193,13 +195,6 @@ Params shear_params() {
   for (const auto& s : find_scheme("contact")->params)
     prm[s.name] = s.default_value;
   return prm;
-}
-double metric(const RunResult& r, const std::string& name) {
-  for (const auto& [k, v] : r.metrics)
-    if (k == name)
-      return v;
-  ADD_FAILURE() << "no metric " << name;
-  return NAN;
 }
 } // namespace
 

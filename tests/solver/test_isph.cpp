@@ -1,4 +1,5 @@
 // Tests of the ISPH scheme (schemes/isph), the cavity cases and their diagnostics.
+#include "case_helpers.hpp"
 #include "cases/case.hpp"
 #include "cases/cavity.hpp"
 #include "core/kernels/cubic_spline.hpp"
@@ -14,25 +15,12 @@
 #include <map>
 
 using namespace sph;
+using sph::testing::metric;
 
 namespace {
 
 Params defaults(const std::string& case_name) {
-  Params prm;
-  for (const auto& s : find_case(case_name)->params)
-    prm[s.name] = s.default_value;
-  for (const auto& s : find_scheme("isph")->params)
-    prm[s.name] = s.default_value;
-  prm["scheme"] = std::string("isph");
-  return prm;
-}
-
-double metric(const RunResult& r, const std::string& name) {
-  for (const auto& [k, v] : r.metrics)
-    if (k == name)
-      return v;
-  ADD_FAILURE() << "no metric " << name;
-  return NAN;
+  return sph::testing::case_defaults(case_name, "isph");
 }
 
 } // namespace

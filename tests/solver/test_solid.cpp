@@ -12,6 +12,7 @@
 //     and decaying with it.
 // (3) Value bands of the cantilever against Euler-Bernoulli (static deflection under its own
 //     weight, first-mode frequency), measured at H/dx = 4 and 8 (docs/solid.md).
+#include "case_helpers.hpp"
 #include "cases/case.hpp"
 #include "core/kernels/wendland_c2.hpp"
 #include "core/lattice.hpp"
@@ -25,6 +26,7 @@
 #include <numbers>
 
 using namespace sph;
+using sph::testing::metric;
 
 namespace {
 
@@ -381,21 +383,7 @@ TEST(SolidConservation, ThreeDimensionalBlock) {
 namespace {
 
 Params cantilever_defaults() {
-  Params prm;
-  for (const auto& s : find_case("cantilever")->params)
-    prm[s.name] = s.default_value;
-  for (const auto& s : find_scheme("elastic_solid")->params)
-    prm[s.name] = s.default_value;
-  prm["scheme"] = std::string("elastic_solid");
-  return prm;
-}
-
-double metric(const RunResult& r, const std::string& name) {
-  for (const auto& [k, v] : r.metrics)
-    if (k == name)
-      return v;
-  ADD_FAILURE() << "no metric " << name;
-  return NAN;
+  return sph::testing::case_defaults("cantilever", "elastic_solid");
 }
 
 } // namespace
