@@ -27,6 +27,13 @@
 // composite-medium solution; profile_err uses the same solution with the physical viscosities.
 // Parameter impedance: a checked copy of rho0 c0 (the x axis of the eta_num-against-Z figure);
 // with material = custom it may set c0 instead.
+// Self-similarity (Fig. 6b): with profile_times = "t_1 t_2 ..." (s, ascending, <= t_end) the mean
+// U_y of each lattice column is sampled at the first step at or after each t_k; the profiles are
+// compared on xi = x sqrt(t_1 / t_k) (the erf solution depends on x / sqrt(t) only):
+//   selfsim_err     max over k > 1 of the RMS over xi of (U_k(xi) - U_1(xi)) / U0, xi within
+//                   the walls at every t_k (the profiles interpolated linearly between columns)
+// and written to <output_dir>/shear_layer.h5, columns similarity/{xi, u_phys, u_t1, u_t2, ...}
+// (u_phys: the physical-viscosity solution at t_1).
 // Cost (besides the time loop's): wall_s, wall_per_step_s, n_fluid, n_ghost, neighbors_mean.
 // Runs on the shared time loop (cases/time_loop.hpp) with scheme contact; the slip walls are
 // Flow::slip_walls. Divergence: a density deviation above 50 % (or a speed above 10 (c0 + U0)).
@@ -37,9 +44,14 @@
 #include "cases/time_loop.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/erf_fit.hpp"
+#include "io/hdf5.hpp"
+#include "io/job_attributes.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <sstream>
 #include <stdexcept>
 
 namespace sph {
@@ -81,7 +93,7 @@ Side resolve_side(const Params& prm, const std::string& key) {
 template <int D>
 class ShearLayerCase final : public FlowCase<D> {
 public:
-  explicit ShearLayerCase(const Params& prm) : prm_(prm) {
+  ShearLayerCase(const Params& prm, const RunContext& ctx) : prm_(prm), ctx_(ctx) {
     const std::string mat = get_string(prm, "material");
     const std::string ml =
         get_string(prm, "material_left").empty() ? mat : get_string(prm, "material_left");
@@ -93,6 +105,24 @@ public:
     t_end_ = get_real(prm, "t_end");
     if (t_end_ <= 0.0)
       t_end_ = 1000.0 * D0_ / std::max(L_.c0, R_.c0);
+    std::istringstream in(get_string(prm, "profile_times"));
+    std::string w;
+    while (in >> w) {
+      std::size_t used = 0;
+      double t = -1.0;
+      try {
+        t = std::stod(w, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != w.size() || !(t > 0.0) || t > t_end_ * (1.0 + 1e-12) ||
+          (!prof_t_.empty() && !(t > prof_t_.back())))
+        throw std::invalid_argument(
+            "shear_layer: profile_times must be ascending times in (0, t_end] separated by "
+            "spaces, got '" +
+            w + "'");
+      prof_t_.push_back(t);
+    }
   }
 
   Flow<D> build(Particles<D>& p) override {
@@ -125,6 +155,7 @@ public:
     });
     n_fluid_ = p.size();
     rho0_ = f.rho0;
+    nx_ = nx;
 
     Flow<D> flow;
     flow.box.lo[0] = -half_ - 2.0 * Rs, flow.box.hi[0] = half_ + 2.0 * Rs;
@@ -165,6 +196,11 @@ public:
         fit_rms_ = ft.rms;
       }
       ++next_;
+    }
+    while (prof_next_ < prof_t_.size() && at.t >= prof_t_[prof_next_] * (1.0 - 1e-12)) {
+      column_profile();
+      prof_at_.push_back(at.t);
+      ++prof_next_;
     }
     return false;
   }
@@ -226,13 +262,18 @@ public:
       if (p.kind[i] == Kind::Fluid)
         pairs += nl.offset[i + 1] - nl.offset[i];
     res.add("neighbors_mean", pairs / n_fluid_);
+    if (!prof_at_.empty())
+      similarity(res);
   }
 
   // The fits made so far and this case's sums.
   std::vector<std::string> state_names() const override {
-    return {"shear_layer/nu", "shear_layer/nu_left", "shear_layer/nu_right", "shear_layer/sums"};
+    return {"shear_layer/nu",   "shear_layer/nu_left",   "shear_layer/nu_right",
+            "shear_layer/sums", "shear_layer/profile_t", "shear_layer/profiles"};
   }
   void save_state(StateArrays& out) const override {
+    out["shear_layer/profile_t"] = prof_at_;
+    out["shear_layer/profiles"] = prof_u_;
     out["shear_layer/nu"] = nu_k_;
     out["shear_layer/nu_left"] = nul_k_;
     out["shear_layer/nu_right"] = nur_k_;
@@ -245,11 +286,17 @@ public:
     const auto& a = in.at("shear_layer/sums");
     io::expect_state_size(a, 4, "shear_layer: checkpoint array shear_layer/sums");
     dt_sum_ = a[0], max_drho_ = a[1], fit_rms_ = a[2], next_ = static_cast<int>(a[3]);
+    prof_at_ = in.at("shear_layer/profile_t");
+    prof_u_ = in.at("shear_layer/profiles");
+    prof_next_ = prof_at_.size();
+    if (prof_u_.size() != prof_at_.size() * static_cast<std::size_t>(nx_))
+      throw std::runtime_error("shear_layer: checkpoint profiles do not match nx");
   }
 
 private:
   static constexpr double fit_at[5] = {0.6, 0.7, 0.8, 0.9, 1.0};
   Params prm_;
+  RunContext ctx_;
   Side L_{}, R_{};
   bool two_ = false;
   double U0_ = 0.0, D0_ = 0.0, t_end_ = 0.0, half_ = 0.0;
@@ -258,9 +305,69 @@ private:
   Particles<D>* p_ = nullptr;
   std::vector<double> xs_, us_, nu_k_, nul_k_, nur_k_;
   double dt_sum_ = 0.0, max_drho_ = 0.0, fit_rms_ = 0.0;
-  int next_ = 0;
+  int next_ = 0, nx_ = 0;
+  std::vector<double> prof_t_, prof_at_, prof_u_; // requested and sampled times, nx_ per sample
+  std::size_t prof_next_ = 0;
 
   ShearLayer sl() const { return {U0_, two_ ? 0.0 : half_, 3}; }
+  // Mean U_y of the fluid particles of each lattice column (width D0), appended to prof_u_.
+  void column_profile() {
+    std::vector<double> sum(nx_, 0.0), n(nx_, 0.0);
+    for (std::size_t i = 0; i < p_->size(); ++i)
+      if (p_->kind[i] == Kind::Fluid) {
+        const int b =
+            std::clamp(static_cast<int>(std::floor((p_->r[i][0] + half_) / D0_)), 0, nx_ - 1);
+        sum[b] += p_->v[i][1], n[b] += 1.0;
+      }
+    for (int b = 0; b < nx_; ++b)
+      prof_u_.push_back(n[b] > 0.0 ? sum[b] / n[b] : 0.0);
+  }
+  // Profile k at position x (linear between column centres, constant beyond the outer ones).
+  double profile_at(std::size_t k, double x) const {
+    const double* u = prof_u_.data() + k * nx_;
+    const double s = (x + half_) / D0_ - 0.5;
+    if (s <= 0.0)
+      return u[0];
+    if (s >= nx_ - 1)
+      return u[nx_ - 1];
+    const int b = static_cast<int>(s);
+    return u[b] + (s - b) * (u[b + 1] - u[b]);
+  }
+  // selfsim_err and the similarity columns (file comment).
+  void similarity(RunResult& res) const {
+    const double t1 = prof_at_.front(), tl = prof_at_.back();
+    const double xi_max = half_ * std::sqrt(t1 / tl) - D0_;
+    std::vector<std::vector<double>> cols(2 + prof_at_.size());
+    for (int b = 0; b < nx_; ++b) {
+      const double xi = -half_ + (b + 0.5) * D0_;
+      if (std::abs(xi) > xi_max)
+        continue;
+      cols[0].push_back(xi);
+      const double nuL = L_.eta / L_.rho0, nuR = R_.eta / R_.rho0;
+      cols[1].push_back(two_ ? shear_layer_u2(sl(), xi, t1, nuL, L_.rho0, nuR, R_.rho0)
+                             : shear_layer_u(sl(), xi, t1, nuL));
+      for (std::size_t k = 0; k < prof_at_.size(); ++k)
+        cols[2 + k].push_back(profile_at(k, xi * std::sqrt(prof_at_[k] / t1)));
+    }
+    double worst = 0.0;
+    for (std::size_t k = 1; k < prof_at_.size(); ++k) {
+      double e2 = 0.0;
+      for (std::size_t m = 0; m < cols[0].size(); ++m)
+        e2 += std::pow(cols[2 + k][m] - cols[2][m], 2);
+      worst = std::max(worst, std::sqrt(e2 / cols[0].size()) / U0_);
+    }
+    res.add("selfsim_err", worst);
+    if (ctx_.output_dir.empty())
+      return;
+    std::filesystem::create_directories(ctx_.output_dir);
+    io::H5Writer h5(ctx_.output_dir / "shear_layer.h5");
+    io::write_job_attributes(h5, "shear_layer", prm_, ctx_.job_key);
+    std::vector<std::string> names{"xi", "u_phys"};
+    for (std::size_t k = 0; k < prof_at_.size(); ++k)
+      names.push_back("u_t" + std::to_string(k + 1));
+    h5.write_columns("similarity", names, cols);
+    h5.close();
+  }
   void sample() {
     xs_.clear(), us_.clear();
     for (std::size_t i = 0; i < p_->size(); ++i)
@@ -271,7 +378,7 @@ private:
 
 template <int D>
 RunResult run_shear_layer(const Params& prm, const RunContext& ctx) {
-  ShearLayerCase<D> c(prm);
+  ShearLayerCase<D> c(prm, ctx);
   return run_flow_case<D>(c, prm, ctx, "contact");
 }
 
@@ -349,6 +456,11 @@ CaseInfo make_shear_layer_case() {
        100000.0},
       {"nz", ParamType::Int, std::int64_t{4}, "particles in depth (3D, periodic)", 1.0, 100000.0},
   };
+  ParamSpec times{"profile_times", ParamType::String, std::string(""),
+                  "times (s, ascending, <= t_end, separated by spaces) of the U_y(x) profiles of "
+                  "the self-similarity check, Fig. 6b (empty: none)"};
+  times.neutral_default = true; // added later: the jobs without it keep their keys
+  c.params.push_back(times);
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) {
     return get_int(prm, "dim") == 3 ? run_shear_layer<3>(prm, ctx) : run_shear_layer<2>(prm, ctx);
