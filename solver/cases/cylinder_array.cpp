@@ -30,14 +30,27 @@
 //   U_drift    |U_s(t_end) - U_s(0.8 t_end)| / U_s(t_end): how close to steady the flow is
 //   drag_balance  the drag measured on the solid particles (pair forces) over the body force on
 //              the fluid, g M_fluid: 1 in a steady state
-// Cost (besides the time loop's): wall_s, wall_per_step_s, n_fluid, n_solid.
-// Runs on the shared time loop (cases/time_loop.hpp) with scheme contact; the drive is the
-// scheme's body acceleration; checkpoints carry the samples taken so far.
+// Fig. 11c: the tangential velocity u_t = u . (sin theta, -cos theta) (clockwise: along the flow
+// over the top of the cylinder; theta from the +x axis, the flow direction) along rays at theta =
+// 90, 75, 60, 45, 30 and 15 degrees, from the first fluid row r = a + D0/2 to S/2, at t_end, by
+// Shepard interpolation of the fluid particles (Wendland C2, h = 1.3 D0): metric ut_max_90 (the
+// largest u_t / U_s on the 90-degree ray) and, with an output directory, cylinder_array.h5 columns
+// rays/{r_over_a, ut_90, ut_75, ...} in units of U_s (the final particles for ParaView's
+// streamlines are the loop's snapshot). Cost (besides the time loop's): wall_s, wall_per_step_s,
+// n_fluid, n_solid. Runs on the shared time loop (cases/time_loop.hpp) with scheme contact; the
+// drive is the scheme's body acceleration; checkpoints carry the samples taken so far.
 #include "cases/loop_params.hpp"
 #include "cases/materials.hpp"
 #include "cases/time_loop.hpp"
+#include "core/kernels/wendland_c2.hpp"
 #include "core/lattice.hpp"
+#include "io/hdf5.hpp"
+#include "io/job_attributes.hpp"
 #include "schemes/contact/scheme_info.hpp"
+
+#include <filesystem>
+#include <string>
+#include <vector>
 
 #include <cmath>
 #include <limits>
@@ -68,7 +81,7 @@ double k_dilute(double c) {
 
 class CylinderArrayCase final : public FlowCase<2> {
 public:
-  explicit CylinderArrayCase(const Params& prm) : prm_(prm) {
+  CylinderArrayCase(const Params& prm, const RunContext& ctx) : prm_(prm), ctx_(ctx) {
     const Material* mat = find_material(get_string(prm, "material"));
     if (!mat)
       throw std::invalid_argument("cylinder_array: unknown material '" +
@@ -174,6 +187,7 @@ public:
     res.add("wall_per_step_s", at.wall_s / at.steps);
     res.add("n_fluid", static_cast<double>(n_fluid_));
     res.add("n_solid", static_cast<double>(n_solid_));
+    rays(U_s, res);
   }
 
   std::vector<std::string> state_names() const override { return {"cylinder_array/samples"}; }
@@ -191,12 +205,59 @@ public:
 private:
   static constexpr double sample_at[3] = {0.8, 0.9, 1.0};
   Params prm_;
+  RunContext ctx_;
   double rho0_ = 0.0, c0_ = 0.0, eta_ = 0.0, d_ = 0.0, D0_ = 0.0, S_ = 0.0, c_ = 0.0, G_ = 0.0;
   double t_end_ = 0.0, M_fluid_ = 0.0, max_drho_ = 0.0;
   double U_k_[3] = {0.0, 0.0, 0.0};
   int N_ = 0, next_ = 0;
   std::size_t n_fluid_ = 0, n_solid_ = 0;
   Particles<2>* p_ = nullptr;
+
+  // The tangential-velocity profiles along the rays (file comment).
+  void rays(double U_s, RunResult& res) const {
+    const Particles<2>& p = *p_;
+    const WendlandC2<2> K(1.3 * D0_);
+    const double a = 0.5 * d_, r_in = a + 0.5 * D0_, r_out = 0.5 * S_, support = K.support();
+    const int n = std::max(2, static_cast<int>(std::round((r_out - r_in) / (0.5 * D0_))) + 1);
+    const int angles[] = {90, 75, 60, 45, 30, 15};
+    std::vector<std::vector<double>> cols(7, std::vector<double>(n));
+    std::vector<std::string> names{"r_over_a"};
+    for (int k = 0; k < n; ++k)
+      cols[0][k] = (r_in + (r_out - r_in) * k / (n - 1)) / a;
+    double ut_max_90 = 0.0;
+    for (int c = 0; c < 6; ++c) {
+      names.push_back("ut_" + std::to_string(angles[c]));
+      const double th = angles[c] * std::numbers::pi / 180.0;
+      const Vec<2> er(std::cos(th), std::sin(th)), et(std::sin(th), -std::cos(th));
+      for (int k = 0; k < n; ++k) {
+        const Vec<2> x = cols[0][k] * a * er;
+        double w = 0.0, u = 0.0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+          if (p.kind[i] != Kind::Fluid)
+            continue;
+          Vec<2> dx = x - p.r[i];
+          for (int ax = 0; ax < 2; ++ax)
+            dx[ax] -= S_ * std::round(dx[ax] / S_); // periodic cell: minimum image
+          const double r = dx.norm();
+          if (r >= support)
+            continue;
+          const double wi = p.m[i] / p.rho[i] * K.W(r);
+          w += wi, u += wi * p.v[i].dot(et);
+        }
+        cols[1 + c][k] = w > 0.0 ? u / w / U_s : 0.0;
+        if (angles[c] == 90)
+          ut_max_90 = std::max(ut_max_90, cols[1 + c][k]);
+      }
+    }
+    res.add("ut_max_90", ut_max_90);
+    if (ctx_.output_dir.empty())
+      return;
+    std::filesystem::create_directories(ctx_.output_dir);
+    io::H5Writer h5(ctx_.output_dir / "cylinder_array.h5");
+    io::write_job_attributes(h5, "cylinder_array", prm_, ctx_.job_key);
+    h5.write_columns("rays", names, cols);
+    h5.close();
+  }
 
   // Superficial velocity (1/S^2) sum_fluid V_i U_x,i.
   double superficial() const {
@@ -209,7 +270,7 @@ private:
 };
 
 RunResult run_cylinder_array(const Params& prm, const RunContext& ctx) {
-  CylinderArrayCase c(prm);
+  CylinderArrayCase c(prm, ctx);
   return run_flow_case<2>(c, prm, ctx, "contact");
 }
 

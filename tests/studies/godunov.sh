@@ -11,6 +11,7 @@ source "$(dirname "$0")/lib.sh"
 expect_jobs godunov_eta_num paper 46
 expect_jobs godunov_zeta paper 8
 expect_jobs godunov_cylinders paper 14
+expect_jobs godunov_cylinders fig11 2
 expect_jobs godunov_drop resolution 6
 expect_jobs godunov_drop fine 2
 run_quick godunov_eta_num godunov_zeta godunov_cylinders godunov_drop
@@ -53,6 +54,10 @@ expect_band godunov_cylinders drag_balance "zeta=0.0" 1.0 0.0001
 expect_band godunov_cylinders K "zeta=1.0" 200.5 10.0
 expect_band godunov_cylinders CD_ratio "zeta=1.0" 3.7956 0.19
 expect_band godunov_cylinders drag_balance "zeta=1.0" 0.87026 0.02
+# The largest tangential velocity on the 90-degree ray (Fig. 11c's profiles), in U_s: 2.705 and
+# 2.606 (zeta = 0, 1): 2 %.
+expect_band godunov_cylinders ut_max_90 "zeta=0.0" 2.7047 0.054
+expect_band godunov_cylinders ut_max_90 "zeta=1.0" 2.6060 0.052
 # The spreading drop (R = 8 D0 to 10 t_g): the half width a / R at t_end, 2.745 at zeta = 0 and
 # 3.492 at zeta = 1 (the corrected drop spreads 27 % further): 1 %; the viscosity read from the
 # late spreading rate (eta_spread; at this resolution a reading of the fit window, not yet the
