@@ -139,6 +139,42 @@ TEST(ContactScheme, ConservesMomentumAndEnergy3D) {
   check_conservation<3, WendlandC2<3>>(8, 10);
 }
 
+// The per-particle factor on zeta (field "zeta_factor", the falling ball's ball particles): a
+// factor of 1 everywhere changes nothing, a factor of 0 everywhere is zeta = 0, to the bit; a
+// factor of 0 on half the particles lies between (the two-material box, zeta = 0.7, 3 steps).
+TEST(ContactScheme, ZetaFactorScalesTheCorrectionPerParticle) {
+  auto run = [](double zeta, int factor_mode) {
+    Box<2, WendlandC2<2>> b(12, zeta, false);
+    if (factor_mode >= 0) {
+      const int zf = b.p.add_scalar("zeta_factor");
+      for (std::size_t i = 0; i < b.p.size(); ++i)
+        b.p.scalar(zf)[i] = factor_mode == 2 ? (b.p.r[i][0] < 6e-8 ? 0.0 : 1.0) : factor_mode;
+      b.f = Fields::find_in(b.p);
+    }
+    Scheme<2, WendlandC2<2>> s(b.p, b.f, b.box, b.o);
+    s.init();
+    for (int k = 0; k < 3; ++k)
+      s.step(2e-13);
+    std::vector<double> out;
+    for (std::size_t i = 0; i < b.p.size(); ++i)
+      out.push_back(b.p.v[i][0]), out.push_back(b.p.v[i][1]);
+    return out;
+  };
+  const auto plain = run(0.7, -1), ones = run(0.7, 1), zeros = run(0.7, 0), off = run(0.0, -1);
+  const auto half = run(0.7, 2);
+  EXPECT_EQ(plain, ones);
+  EXPECT_EQ(zeros, off);
+  double d_on = 0.0, d_half_on = 0.0, d_half_off = 0.0;
+  for (std::size_t k = 0; k < plain.size(); ++k) {
+    d_on += std::abs(plain[k] - off[k]);
+    d_half_on += std::abs(half[k] - plain[k]);
+    d_half_off += std::abs(half[k] - off[k]);
+  }
+  EXPECT_GT(d_on, 0.0);
+  EXPECT_GT(d_half_on, 0.1 * d_on);
+  EXPECT_GT(d_half_off, 0.1 * d_on);
+}
+
 // Equal states on a uniform periodic lattice: no flux, nothing changes but the positions.
 TEST(ContactScheme, UniformStateIsSteady) {
   Box<3, WendlandC2<3>> b(8, 1.0, true);

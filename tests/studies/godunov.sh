@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # CI check of the contact-SPH studies (seed 003, issues 5 and 20): the quick tiers of
-# studies/godunov_eta_num.toml, godunov_zeta.toml, godunov_cylinders.toml and godunov_drop.toml
-# run through the runner into a fresh database (seconds); the metrics the issue names are recorded
+# studies/godunov_eta_num.toml, godunov_zeta.toml, godunov_cylinders.toml, godunov_drop.toml and
+# godunov_ball.toml run through the runner into a fresh database (seconds); the metrics the issue names are recorded
 # and lie in value bands (the correction lowers profile_err of the shear layer and the drag K of
 # the cylinder array, and lets the drop spread further); the paper tiers expand to their job
 # counts; the reports render. Usage: godunov.sh RUNNER SOURCE_DIR
@@ -14,9 +14,11 @@ expect_jobs godunov_cylinders paper 14
 expect_jobs godunov_cylinders fig11 2
 expect_jobs godunov_drop resolution 6
 expect_jobs godunov_drop fine 2
-run_quick godunov_eta_num godunov_zeta godunov_cylinders godunov_drop
-[ "$(q "SELECT count(*) FROM jobs WHERE state = 'done'")" = 10 ] ||
-  fail "expected 10 done jobs (3 + 3 + 2 + 2)"
+expect_jobs godunov_ball machine 7
+expect_jobs godunov_ball paper 12
+run_quick godunov_eta_num godunov_zeta godunov_cylinders godunov_drop godunov_ball
+[ "$(q "SELECT count(*) FROM jobs WHERE state = 'done'")" = 12 ] ||
+  fail "expected 12 done jobs (3 + 3 + 2 + 2 + 2)"
 for m in eta_fit eta_fit_spread profile_err; do
   expect_metric_count godunov_eta_num "$m" 3
 done
@@ -66,5 +68,10 @@ expect_band godunov_drop half_width_over_R "zeta=0.0" 2.7452 0.027
 expect_band godunov_drop half_width_over_R "zeta=1.0" 3.4917 0.035
 expect_band godunov_drop eta_spread "zeta=0.0" 0.0023796 0.00012
 expect_band godunov_drop eta_spread "zeta=1.0" 0.00057587 0.00006
-render_reports godunov_eta_num godunov_zeta godunov_cylinders godunov_drop
+# The falling ball's quick tier (r = 3 D0, 0.3 tau: the start of the fall, far from terminal):
+# the ball's mean speed over [0.24, 0.3] tau, 0.9135 (zeta = 0) and 1.1357 m/s (zeta = 1; the
+# corrected water lets it fall 24 % faster): 3 %.
+expect_band godunov_ball u_terminal "zeta=0.0" 0.91350 0.027
+expect_band godunov_ball u_terminal "zeta=1.0" 1.1357 0.034
+render_reports godunov_eta_num godunov_zeta godunov_cylinders godunov_drop godunov_ball
 echo "godunov quick tiers: OK"

@@ -50,6 +50,11 @@
 //
 // Body force: a constant acceleration g (Options::g) added to dU/dt of (35), its power g . U_i to
 // dE/dt of (36).
+//
+// Per-particle correction (optional field "zeta_factor", set by a case): particle i's numerical
+// viscosity is corrected by zeta * zeta_factor_i instead of zeta, e.g. 0 on a body the correction
+// must not act on (the falling ball of seed 003 section 5.3: "the correction to numerical
+// viscosity tensor is then applied only for liquid particles"). Without the field: zeta for all.
 #pragma once
 
 #include "core/cell_list.hpp"
@@ -95,6 +100,7 @@ using sph::SlipWall;
 // Indices of the scheme's extra per-particle fields.
 struct Fields {
   int rho0 = -1, c0 = -1, eta = -1, e = -1, src = -1;
+  int zeta_factor = -1; // optional per-particle factor on zeta (-1: none, zeta for every particle)
   template <int D>
   static Fields add_to(Particles<D>& p) {
     Fields f;
@@ -123,6 +129,7 @@ struct Fields {
     };
     f.rho0 = need("rho0"), f.c0 = need("c0"), f.eta = need("eta");
     f.e = find_or_add("e"), f.src = find_or_add("src");
+    f.zeta_factor = p.find_scalar("zeta_factor");
     return f;
   }
 };
@@ -280,7 +287,7 @@ public:
         continue;
       const double Di = size(i);
       dt = std::min(dt, o_.cfl * Di / (c0[i] + p_.v[i].norm()));
-      const double visc = eta[i] + o_.zeta * eta_num(i, Di);
+      const double visc = eta[i] + zeta(i) * eta_num(i, Di);
       if (visc > 0.0)
         dt = std::min(dt, 0.125 * Di * Di * p_.rho[i] / visc);
     }
@@ -293,6 +300,10 @@ public:
       (this->*st.run)(dt);
   }
 
+  // The correction factor of particle i: zeta, times its zeta_factor if the particles carry one.
+  double zeta(std::size_t i) const {
+    return f_.zeta_factor >= 0 ? o_.zeta * p_.scalar(f_.zeta_factor)[i] : o_.zeta;
+  }
   // Numerical viscosity of particle i before the factor zeta: given, or eq. (37).
   double eta_num(std::size_t i, double Di) const {
     if (o_.eta_num >= 0.0)
@@ -411,7 +422,7 @@ private:
       w_.size[i] = Di;
       w_.Z[i] = p_.rho[i] * c0[i];
       w_.phys[i] = viscous_side(eta[i], p_.rho[i]);
-      w_.num[i] = viscous_side(o_.zeta * eta_num(i, Di), p_.rho[i]);
+      w_.num[i] = viscous_side(zeta(i) * eta_num(i, Di), p_.rho[i]);
     }
   }
 
@@ -457,8 +468,9 @@ private:
       p_.v[g] = p_.v[i];
       p_.v[g][a] = -p_.v[i][a];
       p_.rho[g] = p_.rho[i], p_.p[g] = p_.p[i], p_.m[g] = p_.m[i];
-      for (int fi : {f_.rho0, f_.c0, f_.eta, f_.e})
-        p_.scalar(fi)[g] = p_.scalar(fi)[i];
+      for (int fi : {f_.rho0, f_.c0, f_.eta, f_.e, f_.zeta_factor})
+        if (fi >= 0)
+          p_.scalar(fi)[g] = p_.scalar(fi)[i];
       if (!r0_.empty())
         w_.disp[g] = p_.r[g] - r0_[g];
     }
