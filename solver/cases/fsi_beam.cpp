@@ -140,7 +140,7 @@ public:
       for (int a = 0; a < na; ++a) {
         const double th = (a + 0.5) * 2.0 * pi / na;
         const V2 r = centre + rk * V2(-std::cos(th), std::sin(th));
-        if (r[0] >= x_clamp - 0.5 * dx && r[1] > y_lo - 0.5 * dx && r[1] < y_hi + 0.5 * dx)
+        if (r[0] >= x_clamp - 0.5 * dx && r[1] > y_lo && r[1] < y_hi)
           continue; // the beam's clamp is there
         p.scalar(body_)[p.add(r, m, rho_f, Kind::Wall)] = 1.0;
       }
@@ -149,6 +149,12 @@ public:
       if ((x - centre).norm() >= R && !in_beam(x))
         p.add(x, m, rho_f);
     });
+    // The outlet buffer, full from the start (the fluid at the outlet then has a full support).
+    const int zk = open_boundary::zone_field(p);
+    for_each_lattice_point<2>({nx, 0}, {nx + layers, ny}, dx,
+                              [&](const V2& x, const std::array<int, 2>&) {
+                                p.scalar(zk)[p.add(x, m, rho_f, Kind::Buffer)] = 2.0;
+                              });
     Flow<2> f;
     f.v_wall = p.add_vector("v_wall"); // zero but on the images
     const std::size_t n_before_images = p.size();
@@ -206,8 +212,21 @@ public:
   }
 
   void before_step(FlowScheme<2>& s, const LoopState& at) override {
-    const bool removed = disposer_->update(*p_);
-    const bool added = emitter_->update(*p_, at.t + 0.5 * s.stable_dt(), next_id_) > 0;
+    // The outlet buffer's velocity: the Shepard average of its fluid and outlet-buffer
+    // neighbours' velocities (a zero-gradient outflow; one Jacobi sweep per step, on the list of
+    // the current positions, before the particle set changes).
+    Particles<2>& p = *p_;
+    const auto& z = p.scalar(open_boundary::zone_field(p));
+    auto outlet = [&](std::size_t i) { return p.kind[i] == Kind::Buffer && z[i] == 2.0; };
+    OutletVelocity op{p, z, v_out_};
+    v_out_.assign(p.size(), V2::Zero());
+    interact(s.neighbors(), op, outlet);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (outlet(i))
+        p.v[i] = v_out_[i];
+    const bool removed = disposer_->update(p);
+    const double t_mid = at.t + 0.5 * s.stable_dt();
+    const bool added = emitter_->update(p, t_mid, next_id_) > 0;
     if (removed || added)
       s.particles_changed();
   }
@@ -350,6 +369,24 @@ private:
   V2 tip0_ = V2::Zero();
   double tip_y_max_ = 0.0;
   std::array<std::vector<double>, 5> series_; // t, u_x, u_y, C_D, C_L
+
+  std::vector<V2> v_out_;
+  // v_i = sum_j W_ij v_j / sum_j W_ij over fluid and outlet-buffer partners j (unchanged without).
+  struct OutletVelocity {
+    const Particles<2>& p;
+    const std::vector<double>& zone;
+    std::vector<V2>& out;
+    struct Acc {
+      V2 num = V2::Zero();
+      double den = 0.0;
+    };
+    Acc init(std::size_t) const { return {}; }
+    void pair(std::size_t, const Pair<2>& q, Acc& a) const {
+      if (p.kind[q.j] == Kind::Fluid || (p.kind[q.j] == Kind::Buffer && zone[q.j] == 2.0))
+        a.num += q.W * p.v[q.j], a.den += q.W;
+    }
+    void finish(std::size_t i, const Acc& a) { out[i] = a.den > 0.0 ? V2(a.num / a.den) : p.v[i]; }
+  };
 
   double inflow(double y, double t) const {
     const double ramp = t < ramp_ ? 0.5 * (1.0 - std::cos(pi * t / ramp_)) : 1.0;
