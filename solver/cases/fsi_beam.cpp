@@ -17,9 +17,10 @@
 // FSI2 parameters (Turek & Hron Table 2, and seed 002 section 4.3): rho_s / rho_f = 10 (1e4 / 1e3
 // kg/m^3), Re = U D / nu_f = 100 (nu_f = 1e-3), Poisson ratio nu_s = 0.4, shear modulus mu_s =
 // 0.5e6 Pa, so E = 2 mu_s (1 + nu_s) = 1.4e6 Pa and E / (rho_f U^2) = 1.4e3.
-// Results there (FSI2, point A): u_y = 1.23e-3 +- 8.06e-2 m at 2.0 Hz, u_x = -1.458e-2 +-
-// 1.25e-2 m at 3.8 Hz; the seed's table (studies/reference/wang2024_fsi_beam_tip.csv): y amplitude
-// 0.830 D and frequency f D / U = 0.190 for Turek & Hron, 0.790 and 0.186 for seed 002.
+// Results there (FSI2, point A; quoted from memory of their table, not re-checked): u_y = 1.23e-3
+// +- 8.06e-2 m at 2.0 Hz, u_x = -1.458e-2 +- 1.25e-2 m at 3.8 Hz; the seed's table
+// (studies/reference/wang2024_fsi_beam_tip.csv): y amplitude 0.830 D and frequency f D / U = 0.190
+// for Turek & Hron, 0.790 and 0.186 for seed 002.
 //
 // Discretisation: one spacing dx = 0.02 / H_over_dx (particles across the beam) for fluid and
 // solid (single resolution; H_over_dx even, so that the lattice fits the channel's 0.41 and the
