@@ -96,6 +96,14 @@ public:
     return -1;
   }
 
+  // The index of the vector field `name`, -1 if there is none.
+  int find_vector(const std::string& name) const {
+    for (std::size_t k = 0; k < vectors_.size(); ++k)
+      if (vectors_[k].name == name)
+        return static_cast<int>(k);
+    return -1;
+  }
+
   // Removes the particles with keep[i] == 0, preserving the order of the others, from every field.
   void keep_only(const std::vector<char>& keep) {
     compact(r, keep), compact(v, keep), compact(m, keep), compact(rho, keep), compact(p, keep);

@@ -61,6 +61,20 @@ struct Flow {
   // Poisson ratio (in 2D the 3D Lame constants: a plane-strain slab).
   double youngs_modulus = 0.0;
   double poisson_ratio = 0.0;
+  // Solid schemes: vector field of an external force on each Solid particle (N; e.g. the fluid's
+  // force on a coupled solid, coupling/fsi.hpp), added to its acceleration as f / m (-1: none).
+  int external_force = -1;
+  // Moving bodies coupled to a solid (fluid schemes with SchemeInfo::moving_bodies; coupling/
+  // fsi.hpp; a scheme without them rejects a flow that sets any):
+  //   a_wall       vector field: acceleration of the wall particles (wall pressure extrapolation)
+  //   wall_force   vector field the scheme fills: the fluid's force on each wall particle, the
+  //                reaction of the pair terms the fluid felt, averaged over the last step
+  //   body_motion  called after each step's sub-steps, before the neighbour search, with the
+  //                step's start time and size: moves the wall particles (advances the solid)
+  int a_wall = -1;
+  int wall_force = -1;
+  std::function<void(Particles<D>&, double t0, double Dt)> body_motion;
+  bool has_moving_body_hooks() const { return a_wall >= 0 || wall_force >= 0 || body_motion; }
   // Free-surface / free-stream boundary pieces (boundaries/open_boundary.hpp) a scheme calls
   // inside its step; a scheme without them (SchemeInfo::free_stream false) rejects a flow that
   // sets any. Empty: none.
@@ -156,8 +170,9 @@ struct SchemeInfo {
   std::string name;
   std::string description; // one line, with the paper
   std::vector<ParamSpec> params;
-  bool slip_walls = false;  // imposes Flow::slip_walls
-  bool free_stream = false; // calls Flow's before_density, after_density, after_kick hooks
+  bool slip_walls = false;    // imposes Flow::slip_walls
+  bool free_stream = false;   // calls Flow's before_density, after_density, after_kick hooks
+  bool moving_bodies = false; // takes Flow's a_wall, wall_force and body_motion
   std::unique_ptr<FlowScheme<2>> (*make2)(const Params&, const Flow<2>&) = nullptr;
   std::unique_ptr<FlowScheme<3>> (*make3)(const Params&, const Flow<3>&) = nullptr;
 };
@@ -191,6 +206,9 @@ std::unique_ptr<FlowScheme<D>> make_scheme(const Params& prm, const Flow<D>& flo
   if (flow.has_free_stream_hooks() && !s->free_stream)
     throw std::invalid_argument("scheme '" + name +
                                 "' has no free-stream boundary hooks, which this case needs");
+  if (flow.has_moving_body_hooks() && !s->moving_bodies)
+    throw std::invalid_argument("scheme '" + name +
+                                "' has no moving-body coupling, which this case needs");
   return make(prm, flow);
 }
 

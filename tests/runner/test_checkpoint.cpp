@@ -149,6 +149,20 @@ TEST(Checkpoint, CantileverResumesToTheSameBits) {
   EXPECT_CONTAINS(msg, "resumed at t = ");
 }
 
+// The FSI beam (issue 18): the fluid with its inflow and outflow buffers, the solid's own particle
+// set, scheme state and averaged velocity (saved by the case), the tip and force series.
+TEST(Checkpoint, FsiBeamResumesToTheSameBits) {
+  Params p = case_defaults("fsi_beam");
+  p["H_over_dx"] = std::int64_t{2};
+  p["t_end"] = 0.1;
+  p["ramp_time"] = 0.5;
+  p["settle_fraction"] = 0.0;
+  std::string msg = expect_resume_is_exact(
+      "fsi_beam", p, 0.5, 10,
+      {"wall_time_s", "time_per_step_s", "cpu_time_per_step_s", "time_per_particle_step_s"});
+  EXPECT_CONTAINS(msg, "resumed at t = ");
+}
+
 // A real scheme: the transport-velocity WCSPH Taylor-Green vortex (particles re-sorted by cell
 // every step, dual-criteria time steps) resumes from its checkpoint to the same bits.
 TEST(Checkpoint, TaylorGreenResumesToTheSameBits) {

@@ -22,7 +22,10 @@
 //   E = (F^T F - I) / 2,  dE = (dF^T F + F^T dF) / 2
 //   S = S_law(F) + eta dE,  eta = damping rho0 c_p h                      (Kelvin-Voigt damping)
 //   P = F S                                                               (first Piola-Kirchhoff)
-//   rho0 dv_i/dt = sum_j V_j (P_i B_i^T + P_j B_j^T) grad W0_ij + rho0 g
+//   rho0 dv_i/dt = sum_j V_j (P_i B_i^T + P_j B_j^T) grad W0_ij + rho0 g + f_i / V_i
+//   (f_i: an external force on particle i, Options::external_force, e.g. the fluid's pressure and
+//   viscous force on a coupled solid, coupling/fsi.hpp, as Zhang et al. 2021 section 3: the kick
+//   adds f_i / m_i)
 // The transpose B^T in the momentum equation is what makes its elastic part the exact negative
 // gradient of the discrete strain energy sum_i V_i psi(F_i) when F_i is written as above (the
 // same transpose as SPHinXsys' Integration1stHalfPK2, "correction matrix in a form of
@@ -186,6 +189,8 @@ struct Options {
   double damping = 0.05;
   // Physical, from the flow: reference density, Young's modulus, Poisson ratio, spacing, h.
   double rho0 = 1.0, E = 0.0, nu = 0.0, dx = 0.0, h = 0.0;
+  // Vector field of an external force on each particle (-1: none; Flow::external_force).
+  int external_force = -1;
 };
 
 // Sums of the internal forces m_i a_i over every particle (clamp included): with exact pairwise
@@ -361,6 +366,14 @@ private:
   void kick(double h) {
     const auto& a = p_.vector(a_);
     const std::size_t N = p_.size();
+    if (o_.external_force >= 0) {
+      const auto& f = p_.vector(o_.external_force);
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < N; ++i)
+        if (p_.kind[i] == Kind::Solid)
+          p_.v[i] += h * (a[i] + g_ + f[i] / p_.m[i]);
+      return;
+    }
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < N; ++i)
       if (p_.kind[i] == Kind::Solid)

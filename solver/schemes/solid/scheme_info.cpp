@@ -95,8 +95,8 @@ private:
 
 template <int D>
 std::unique_ptr<sph::FlowScheme<D>> make(const Params& prm, const Flow<D>& flow) {
-  const Options o =
-      options_for_flow(prm, flow.rho0, flow.youngs_modulus, flow.poisson_ratio, flow.dx);
+  Options o = options_for_flow(prm, flow.rho0, flow.youngs_modulus, flow.poisson_ratio, flow.dx);
+  o.external_force = flow.external_force;
   return with_kernel<D>(o.kernel, o.h, [&](const auto& k) -> std::unique_ptr<sph::FlowScheme<D>> {
     using Kn = std::decay_t<decltype(k)>;
     if (o.law == Law::NeoHookean)

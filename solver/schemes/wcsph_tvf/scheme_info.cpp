@@ -63,7 +63,7 @@ public:
   Adapter(const Options& o, const Flow<D>& flow)
       : p_(*flow.p), v_wall_(flow.v_wall), o_(o), f_(prepare(flow)), s_(p_, f_, flow.box, o_) {
     s_.set_boundary_hooks({flow.buffer_pressure, flow.before_density, flow.after_density,
-                           flow.after_kick, flow.surface_indicator});
+                           flow.after_kick, flow.surface_indicator, flow.body_motion});
   }
 
   void init() override { s_.init(); }
@@ -134,6 +134,8 @@ private:
           p.v[i] = p.vector(flow.v_wall)[i];
     Fields f = Fields::add_to(p, flow.v_wall);
     f.h = flow.h;
+    f.a_wall = flow.a_wall;
+    f.f_body = flow.wall_force;
     return f;
   }
 };
@@ -172,6 +174,7 @@ SchemeInfo make_wcsph_tvf_scheme() {
                   "with limiter (Wang, Haidn & Hu, arXiv:2411.13992, seed 002)";
   s.params = wcsph_tvf::table().specs();
   s.free_stream = true;
+  s.moving_bodies = true;
   s.make2 = &wcsph_tvf::make<2>;
   s.make3 = &wcsph_tvf::make<3>;
   return s;

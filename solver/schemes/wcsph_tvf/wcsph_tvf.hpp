@@ -64,6 +64,19 @@
 // v_w* = 2 v_wall - v_i. Wall particles are not integrated. (The dissipation at walls uses e_iw
 // where SPHinXsys uses the wall normal.)
 //
+// Moving bodies coupled to a solid (fluid-structure interaction; coupling/fsi.hpp; Zhang,
+// Rezavand & Hu, JCP 429 (2021) 110028, section 3, and SPHinXsys' fluid_structure_interaction/
+// fluid_structure_interaction.{h,hpp}, read for the formulas): with Fields::a_wall the wall
+// pressure extrapolation uses the relative acceleration, p_w = p_i + rho_i |r_iw|
+// max(0, (F_prior_i / m_i - a_w) . (-e_iw)); with Fields::f_body every Wall particle w gets the
+// reaction of the very pair terms its fluid partners i felt from it (Newton's third law), summed
+// over the acoustic sub-steps as the impulses the fluid took and averaged over the step:
+//   F_w = (1 / Dt) sum_k dt_k sum_i -( F^nu_iw + F^p_iw,k + F^diss_iw,k-1 )
+// (F^nu of the step, F^p of sub-step k's 1st half, F^diss of the 2nd half before it: what the
+// kick of sub-step k used), so sum_i m_i dv_i + Dt sum_w F_w = 0 to round-off over any steps.
+// The body_motion hook runs after the sub-steps, before the neighbour search: the case moves the
+// walls (advances the solid over the step and copies its positions, velocities, accelerations).
+//
 // Open boundaries (boundaries/open_boundary.hpp; Flow's hooks, set with set_boundary_hooks):
 // Buffer particles (inflow and outflow buffers) are not integrated but drift with their velocity
 // in both half steps (the case prescribes it), and are partners of every pair loop with their own
@@ -136,6 +149,10 @@ struct Fields {
   int f_diss = -1; // Riemann dissipation force of the last 2nd half
   int v_wall = -1; // prescribed velocity of wall particles (may be -1: no walls)
   int h = -1;      // per-particle smoothing length (variable resolution; -1: h = Options::h)
+  int a_wall = -1; // acceleration of wall particles (moving bodies; -1: walls not accelerating)
+  int f_body = -1; // out: force of the fluid on each wall particle, averaged over the last step
+                   // (-1: not computed). force_dissipation of a wall particle then holds the
+                   // reaction of the last 2nd half's dissipation force on it.
   template <int D>
   static Fields add_to(Particles<D>& p, int v_wall = -1) {
     Fields f;
@@ -317,9 +334,10 @@ struct FirstHalf {
   const std::vector<Vec<D>>* a_tilde; // nullptr unless tvf = original
   double half_dt;                     // dt / 2 (transport-velocity increment of a~)
   double inv_rho0c0;
-  std::vector<Vec<D>>& force; // out: F^p (+ F^A)
-  std::vector<double>& drho;  // out: drho/dt (assigned)
-  bool walls_only = false;    // the wall partners' share only (force_on_walls)
+  std::vector<Vec<D>>& force;     // out: F^p (+ F^A)
+  std::vector<double>& drho;      // out: drho/dt (assigned)
+  bool walls_only = false;        // the wall partners' share only (force_on_walls)
+  const Vec<D>* a_wall = nullptr; // wall accelerations (moving bodies), nullptr: at rest
 
   struct Acc {
     Vec<D> f = Vec<D>::Zero();
@@ -335,8 +353,8 @@ struct FirstHalf {
     double pj = p.p[j];
     const bool wall = p.kind[j] == Kind::Wall;
     if (wall) {
-      const double an = (f_prior[i] / p.m[i]).dot(-e);
-      pj = p.p[i] + p.rho[i] * q.r * std::max(0.0, an);
+      const Vec<D> a_rel = a_wall ? Vec<D>(f_prior[i] / p.m[i] - a_wall[j]) : f_prior[i] / p.m[i];
+      pj = p.p[i] + p.rho[i] * q.r * std::max(0.0, a_rel.dot(-e));
     }
     const Vec<D> gw = (Vj * q.dW) * e; // V_j grad_i W_ij
     if (!B)
@@ -393,6 +411,86 @@ struct SecondHalf {
   }
 };
 
+// The reactions on the walls (moving bodies, Fields::f_body): for wall particle w (the row) and
+// each fluid partner a, minus the pair term fluid a felt from w in ViscousForce, FirstHalf and
+// SecondHalf, written from w's row (r_wa = -r_aw, the same W and dW; e_aw = -r_wa / r). The
+// fluid-side quantities (V_a, p_a, rho_a, F_prior_a, v_a) are the partner's.
+
+// -F^nu_aw = -V_a 2 mu V_w dW (v_a - v_w*) / (r + eps h),  v_w* = 2 v_wall - v_a.
+template <int D>
+struct WallViscousReaction {
+  const Particles<D>& p;
+  const Vec<D>* v_wall;
+  double mu, eps_h;
+  std::vector<Vec<D>>& f; // out, wall rows
+
+  struct Acc {
+    Vec<D> f = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t w, const Pair<D>& q, Acc& a) const {
+    const std::uint32_t k = q.j;
+    if (p.kind[k] != Kind::Fluid)
+      return;
+    const Vec<D> vw = partner_velocity(p, v_wall, k, static_cast<std::uint32_t>(w));
+    a.f -= (p.V[k] * 2.0 * mu * p.V[w] * q.dW / (q.r + eps_h)) * (p.v[k] - vw);
+  }
+  void finish(std::size_t w, const Acc& a) { f[w] = a.f; }
+};
+
+// -F^p_aw = V_a (p_a + p_w) V_w dW [B_a] e_aw,  p_w = p_a + rho_a r max(0, (F_prior_a / m_a - a_w)
+// . (-e_aw)).
+template <int D>
+struct WallPressureReaction {
+  const Particles<D>& p;
+  const std::vector<Mat<D>>* B; // nullptr: identity
+  const std::vector<Vec<D>>& f_prior;
+  const Vec<D>* a_wall;   // nullptr: walls at rest
+  std::vector<Vec<D>>& f; // out, wall rows
+
+  struct Acc {
+    Vec<D> f = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t w, const Pair<D>& q, Acc& a) const {
+    const std::uint32_t k = q.j;
+    if (p.kind[k] != Kind::Fluid)
+      return;
+    const Vec<D> e_aw = -q.r_ij / q.r;
+    const Vec<D> a_rel = a_wall ? Vec<D>(f_prior[k] / p.m[k] - a_wall[w]) : f_prior[k] / p.m[k];
+    const double pw = p.p[k] + p.rho[k] * q.r * std::max(0.0, a_rel.dot(-e_aw));
+    const Vec<D> gw = (p.V[w] * q.dW) * e_aw; // V_w grad_a W_aw
+    const Vec<D> t = B ? Vec<D>((*B)[k] * gw) : gw;
+    a.f += (p.V[k] * (p.p[k] + pw)) * t;
+  }
+  void finish(std::size_t w, const Acc& a) { f[w] = a.f; }
+};
+
+// -F^diss_aw = -V_a rho0 c0 beta(u) u V_w dW e_aw,  u = (v_a - v_w*) . e_aw.
+template <int D>
+struct WallDissipationReaction {
+  const Particles<D>& p;
+  const Vec<D>* v_wall;
+  const Options& o;
+  double rho0c0;
+  std::vector<Vec<D>>& f; // out, wall rows
+
+  struct Acc {
+    Vec<D> f = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t w, const Pair<D>& q, Acc& a) const {
+    const std::uint32_t k = q.j;
+    if (p.kind[k] != Kind::Fluid)
+      return;
+    const Vec<D> e_aw = -q.r_ij / q.r;
+    const Vec<D> vw = partner_velocity(p, v_wall, k, static_cast<std::uint32_t>(w));
+    const double u = (p.v[k] - vw).dot(e_aw);
+    a.f -= (p.V[k] * rho0c0 * dissipation_beta(o, u) * u * p.V[w] * q.dW) * e_aw;
+  }
+  void finish(std::size_t w, const Acc& a) { f[w] = a.f; }
+};
+
 } // namespace ops
 
 // The open-boundary hooks of a flow (schemes/scheme.hpp, Flow) the scheme calls in its step.
@@ -402,6 +500,9 @@ struct BoundaryHooks {
       after_density;
   std::function<void(Particles<D>&, double)> after_kick;
   int surface_indicator = -1; // scalar field: nonzero = free surface (no TVF shift)
+  // Moving bodies: after the acoustic sub-steps of the step [t0, t0 + Dt], before the neighbour
+  // search (the case moves its wall particles: a coupled solid, coupling/fsi.hpp).
+  std::function<void(Particles<D>&, double t0, double Dt)> body_motion;
 };
 
 // What one advection step did (for the case's diagnostics).
@@ -647,6 +748,7 @@ private:
   BoundaryHooks<D> hooks_;
   double t0_ = 0.0; // time at the start of the advection step (the hooks' sub-step times)
   std::vector<Vec<D>> wf_prior_, wf_visc_, wf_p_, wf_diss_; // force_on_walls' scratch
+  std::vector<Vec<D>> w_visc_, w_p_, w_impulse_;            // moving bodies: the walls' reactions
   std::vector<double> wf_drho_, wf_trB_;
   std::vector<Mat<D>> wf_B_;
 
@@ -659,8 +761,20 @@ private:
   auto fluid_only() const {
     return [this](std::size_t i) { return fluid(i); };
   }
+  auto walls_only() const {
+    return [this](std::size_t i) { return p_.kind[i] == Kind::Wall; };
+  }
+  // Moving bodies: the fluid's force on every wall particle is computed (Fields::f_body).
+  bool coupled() const {
+    return f_.f_body >= 0;
+  }
+  const Vec<D>* a_wall() const {
+    return f_.a_wall >= 0 ? p_.vector(f_.a_wall).data() : nullptr;
+  }
 
-  void neighbours(double, StepInfo&) {
+  void neighbours(double Dt, StepInfo&) {
+    if (hooks_.body_motion)
+      hooks_.body_motion(p_, t0_, Dt);
     neighbour_search();
   }
   void neighbour_search() {
@@ -676,6 +790,8 @@ private:
     sumW_.resize(N), traceB_.resize(N), B_.resize(N, Mat<D>::Identity());
     f_prior_.resize(N, Vec<D>::Zero()), force_.resize(N), g_.resize(N);
     shift_.resize(N, Vec<D>::Zero()), a_tilde_.resize(N, Vec<D>::Zero());
+    if (coupled())
+      w_visc_.resize(N, Vec<D>::Zero()), w_p_.resize(N, Vec<D>::Zero()), w_impulse_.resize(N);
   }
 
   void density_summation(double, StepInfo&) {
@@ -714,6 +830,10 @@ private:
 
   void viscous_force(double, StepInfo&) {
     prior_force(f_prior_);
+    if (coupled()) { // the walls' share, for their reaction (moving bodies)
+      ops::WallViscousReaction<D> op{p_, v_wall(), o_.mu, o_.viscous_eps * o_.h, w_visc_};
+      interact(nl_, op, walls_only());
+    }
   }
   // F_prior = F^nu + m g of the fluid particles on the current neighbour list.
   void prior_force(std::vector<Vec<D>>& out) {
@@ -765,6 +885,8 @@ private:
     auto& drho = p_.scalar(f_.drho);
     auto& fd = p_.vector(f_.f_diss);
     const double rho0c0 = o_.rho0 * o_.c0;
+    if (coupled())
+      std::fill(w_impulse_.begin(), w_impulse_.end(), Vec<D>::Zero());
     double tau = 0.0;
     while (tau < Dt * (1.0 - 1e-12)) {
       const double dt = std::min(acoustic_dt(), Dt - tau);
@@ -789,9 +911,18 @@ private:
       if (hooks_.buffer_pressure)
         hooks_.buffer_pressure(p_, nl_);
       {
-        ops::FirstHalf<D> op{p_,   B(),          f_prior_, original ? &a_tilde_ : nullptr,
-                             half, 1.0 / rho0c0, force_,   drho};
+        ops::FirstHalf<D> op{p_,    B(),          f_prior_, original ? &a_tilde_ : nullptr,
+                             half,  1.0 / rho0c0, force_,   drho,
+                             false, a_wall()};
         interact(nl_, op, fluid_only());
+      }
+      if (coupled()) { // the impulse the fluid's kick takes from each wall, reversed
+        ops::WallPressureReaction<D> op{p_, B(), f_prior_, a_wall(), w_p_};
+        interact(nl_, op, walls_only());
+#pragma omp parallel for schedule(static)
+        for (std::size_t i = 0; i < N; ++i)
+          if (p_.kind[i] == Kind::Wall)
+            w_impulse_[i] += dt * (w_visc_[i] + w_p_[i] + fd[i]);
       }
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < N; ++i)
@@ -818,6 +949,10 @@ private:
         ops::SecondHalf<D> op{p_, v_wall(), o_, rho0c0, drho, fd};
         interact(nl_, op, fluid_only());
       }
+      if (coupled()) { // the walls' dissipation reaction, for the next kick
+        ops::WallDissipationReaction<D> op{p_, v_wall(), o_, rho0c0, fd};
+        interact(nl_, op, walls_only());
+      }
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < N; ++i)
         if (fluid(i))
@@ -837,6 +972,11 @@ private:
     if (original)
       info.tv_max = tv / dt_tv_;
     a_last_max_ = a;
+    if (coupled()) {
+      auto& fb = p_.vector(f_.f_body);
+      for (std::size_t i = 0; i < N; ++i)
+        fb[i] = p_.kind[i] == Kind::Wall ? Vec<D>(w_impulse_[i] / Dt) : Vec<D>::Zero();
+    }
   }
 };
 
