@@ -44,11 +44,9 @@
 #include "cases/time_loop.hpp"
 #include "core/kernels/wendland_c2.hpp"
 #include "core/lattice.hpp"
-#include "io/hdf5.hpp"
 #include "io/job_attributes.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -82,16 +80,9 @@ double k_dilute(double c) {
 class CylinderArrayCase final : public FlowCase<2> {
 public:
   CylinderArrayCase(const Params& prm, const RunContext& ctx) : prm_(prm), ctx_(ctx) {
-    const Material* mat = find_material(get_string(prm, "material"));
-    if (!mat)
-      throw std::invalid_argument("cylinder_array: unknown material '" +
-                                  get_string(prm, "material") + "'");
-    rho0_ = mat->rho0, c0_ = mat->c0;
-    eta_ = get_real(prm, "eta") >= 0.0 ? get_real(prm, "eta") : mat->eta;
-    if (!(eta_ > 0.0))
-      throw std::invalid_argument(
-          "cylinder_array: the fluid needs a viscosity eta > 0 (material '" +
-          std::string(mat->key) + "' has none in Table 1: set eta)");
+    const Material& mat = material_or_throw(get_string(prm, "material"), "cylinder_array");
+    rho0_ = mat.rho0, c0_ = mat.c0;
+    eta_ = liquid_viscosity(get_real(prm, "eta"), mat, "cylinder_array");
     d_ = get_real(prm, "d");
     const int n_d = static_cast<int>(get_int(prm, "n_d"));
     D0_ = d_ / n_d;
@@ -149,14 +140,8 @@ public:
   // superficial velocity at t = (0.8, 0.9, 1.0) t_end.
   bool after_step(FlowScheme<2>&, const LoopState& at, const StepStats&) override {
     const Particles<2>& p = *p_;
-    if (at.steps % 100 == 0 || (next_ < 3 && at.t >= sample_at[next_] * t_end_ * (1.0 - 1e-12))) {
-      for (std::size_t i = 0; i < p.size(); ++i)
-        if (p.kind[i] == Kind::Fluid)
-          max_drho_ = std::max(max_drho_, std::abs(p.rho[i] / rho0_ - 1.0));
-      if (!std::isfinite(max_drho_) || max_drho_ > 0.1)
-        throw std::runtime_error("density deviation " + std::to_string(max_drho_) + " after " +
-                                 std::to_string(at.steps) + " steps");
-    }
+    if (at.steps % 100 == 0 || (next_ < 3 && at.t >= sample_at[next_] * t_end_ * (1.0 - 1e-12)))
+      contact::check_density_deviation(p, max_drho_, 0.1, at.steps);
     while (next_ < 3 && at.t >= sample_at[next_] * t_end_ * (1.0 - 1e-12))
       U_k_[next_++] = superficial();
     return false;
@@ -250,13 +235,10 @@ private:
       }
     }
     res.add("ut_max_90", ut_max_90);
-    if (ctx_.output_dir.empty())
-      return;
-    std::filesystem::create_directories(ctx_.output_dir);
-    io::H5Writer h5(ctx_.output_dir / "cylinder_array.h5");
-    io::write_job_attributes(h5, "cylinder_array", prm_, ctx_.job_key);
-    h5.write_columns("rays", names, cols);
-    h5.close();
+    if (auto h5 = io::open_job_output(ctx_, "cylinder_array", prm_)) {
+      h5->write_columns("rays", names, cols);
+      h5->close();
+    }
   }
 
   // Superficial velocity (1/S^2) sum_fluid V_i U_x,i.

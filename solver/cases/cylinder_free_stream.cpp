@@ -64,7 +64,6 @@
 #include "core/kernels/kernel.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/signal.hpp"
-#include "io/hdf5.hpp"
 #include "io/job_attributes.hpp"
 #include "io/particle_fields.hpp"
 #include "schemes/wcsph_tvf/wcsph_tvf.hpp"
@@ -256,16 +255,13 @@ public:
     if (open_)
       res.add("mass_lost", dom_->mass_lost());
 
-    if (!ctx_.output_dir.empty()) {
-      std::filesystem::create_directories(ctx_.output_dir);
-      io::H5Writer h5(ctx_.output_dir / "cylinder_free_stream.h5");
-      // The job's parameters typed and its key (io/job_attributes.hpp), and the settling time.
-      io::write_job_attributes(h5, "cylinder_free_stream", prm_, ctx_.job_key);
-      h5.attribute("t_settle", t_settle_);
-      h5.write_columns("series", {"t", "cd", "cl", "cd_viscous", "cd_filtered", "cl_filtered"},
-                       {ts_, cds_, cls_, cdvs_, cd_f, cl_f});
-      io::write_fluid_fields(h5, p);
-      h5.close();
+    // The job's parameters typed and its key (io/job_attributes.hpp), and the settling time.
+    if (auto h5 = io::open_job_output(ctx_, "cylinder_free_stream", prm_)) {
+      h5->attribute("t_settle", t_settle_);
+      h5->write_columns("series", {"t", "cd", "cl", "cd_viscous", "cd_filtered", "cl_filtered"},
+                        {ts_, cds_, cls_, cdvs_, cd_f, cl_f});
+      io::write_fluid_fields(*h5, p);
+      h5->close();
     }
   }
 

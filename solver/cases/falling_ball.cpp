@@ -40,14 +40,11 @@
 #include "cases/materials.hpp"
 #include "cases/time_loop.hpp"
 #include "core/lattice.hpp"
-#include "io/hdf5.hpp"
 #include "io/job_attributes.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <numbers>
 #include <stdexcept>
 
 namespace sph {
@@ -64,18 +61,14 @@ namespace {
 class FallingBallCase final : public FlowCase<3> {
 public:
   FallingBallCase(const Params& prm, const RunContext& ctx) : prm_(prm), ctx_(ctx) {
-    const Material* fl = find_material(get_string(prm, "liquid"));
-    const Material* bl = find_material(get_string(prm, "ball"));
-    if (!fl || !bl)
-      throw std::invalid_argument("falling_ball: unknown material");
-    f_ = {fl->rho0, fl->c0, fl->eta}, b_ = {bl->rho0, bl->c0, bl->eta};
-    if (!(f_.eta > 0.0))
-      throw std::invalid_argument("falling_ball: the liquid needs a viscosity");
+    const Material& fl = material_or_throw(get_string(prm, "liquid"), "falling_ball");
+    const Material& bl = material_or_throw(get_string(prm, "ball"), "falling_ball");
+    f_ = {fl.rho0, fl.c0, liquid_viscosity(-1.0, fl, "falling_ball")};
+    b_ = {bl.rho0, bl.c0, bl.eta};
     if (!(b_.rho0 > f_.rho0))
       throw std::invalid_argument("falling_ball: the ball must be denser than the liquid");
     D0_ = get_real(prm, "D0");
-    n_r_ = static_cast<int>(get_int(prm, "ball_radius_over_D0"));
-    r_ = n_r_ * D0_;
+    r_ = static_cast<double>(get_int(prm, "ball_radius_over_D0")) * D0_;
     k_ = get_real(prm, "r_over_Rv");
     Rv_ = r_ / k_;
     Hv_ = get_real(prm, "H_over_Rv") * Rv_;
@@ -149,15 +142,8 @@ public:
   double speed_bound() const override { return 100.0 * u_S_ + 0.01 * f_.c0; }
 
   bool after_step(FlowScheme<3>&, const LoopState& at, const StepStats&) override {
-    if (at.steps % 100 == 0) {
-      const auto& rho0 = p_->scalar(p_->find_scalar("rho0"));
-      for (std::size_t i = 0; i < p_->size(); ++i)
-        if (p_->kind[i] == Kind::Fluid)
-          max_drho_ = std::max(max_drho_, std::abs(p_->rho[i] / rho0[i] - 1.0));
-      if (!std::isfinite(max_drho_) || max_drho_ > 0.1)
-        throw std::runtime_error("density deviation " + std::to_string(max_drho_) + " after " +
-                                 std::to_string(at.steps) + " steps");
-    }
+    if (at.steps % 100 == 0)
+      contact::check_density_deviation(*p_, max_drho_, 0.1, at.steps);
     if (at.t >= static_cast<double>(ts_.size()) * dt_sample_ * (1.0 - 1e-12))
       sample(at.t);
     return false;
@@ -204,16 +190,13 @@ public:
     res.add("n_fluid", static_cast<double>(n_fluid_));
     res.add("n_ball", static_cast<double>(n_ball_));
     res.add("n_solid", static_cast<double>(n_solid_));
-    if (ctx_.output_dir.empty())
-      return;
-    std::filesystem::create_directories(ctx_.output_dir);
-    io::H5Writer h5(ctx_.output_dir / "falling_ball.h5");
-    io::write_job_attributes(h5, "falling_ball", prm_, ctx_.job_key);
-    std::vector<double> tt(ts_.size());
-    for (std::size_t k = 0; k < ts_.size(); ++k)
-      tt[k] = ts_[k] / tau_;
-    h5.write_columns("series", {"t", "t_over_tau", "u_ball", "z_ball"}, {ts_, tt, us_, zs_});
-    h5.close();
+    if (auto h5 = io::open_job_output(ctx_, "falling_ball", prm_)) {
+      std::vector<double> tt(ts_.size());
+      for (std::size_t k = 0; k < ts_.size(); ++k)
+        tt[k] = ts_[k] / tau_;
+      h5->write_columns("series", {"t", "t_over_tau", "u_ball", "z_ball"}, {ts_, tt, us_, zs_});
+      h5->close();
+    }
   }
 
   std::vector<std::string> state_names() const override {
@@ -243,7 +226,6 @@ private:
   double D0_ = 0.0, r_ = 0.0, k_ = 0.5, Rv_ = 0.0, Hv_ = 0.0, lambda_ = 1.0, u_S_ = 0.0, g_ = 0.0;
   double tau_ = 0.0, t_end_ = 0.0, dt_sample_ = 0.0, avg_from_ = 0.8, zb0_ = 0.0, z0_ = 0.0;
   double max_drho_ = 0.0;
-  int n_r_ = 0;
   std::size_t n_fluid_ = 0, n_ball_ = 0, n_solid_ = 0;
   std::vector<std::int64_t> ball_ids_; // the ball's particle ids, sorted
   std::vector<double> ts_, us_, zs_;

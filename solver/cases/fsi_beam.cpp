@@ -63,13 +63,11 @@
 #include "core/lattice.hpp"
 #include "coupling/fsi.hpp"
 #include "diagnostics/signal.hpp"
-#include "io/hdf5.hpp"
 #include "io/job_attributes.hpp"
 #include "io/particle_checkpoint.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -293,14 +291,11 @@ public:
     res.add("mass_in", emitter_->mass_in());
     res.add("mass_out", disposer_->mass_out());
     solid_scheme_->add_metrics(res, 0.0);
-    if (!ctx_.output_dir.empty()) {
-      std::filesystem::create_directories(ctx_.output_dir);
-      io::H5Writer h5(ctx_.output_dir / "fsi_beam.h5");
-      io::write_job_attributes(h5, "fsi_beam", prm_, ctx_.job_key);
-      h5.attribute("t_settle", t_settle_);
-      h5.write_columns("series", {"t", "tip_dx", "tip_dy", "cd", "cl"},
-                       {series_[0], series_[1], series_[2], series_[3], series_[4]});
-      h5.close();
+    if (auto h5 = io::open_job_output(ctx_, "fsi_beam", prm_)) {
+      h5->attribute("t_settle", t_settle_);
+      h5->write_columns("series", {"t", "tip_dx", "tip_dy", "cd", "cl"},
+                        {series_[0], series_[1], series_[2], series_[3], series_[4]});
+      h5->close();
     }
   }
 

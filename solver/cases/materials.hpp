@@ -16,6 +16,7 @@
 #pragma once
 
 #include <array>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -59,6 +60,24 @@ inline const Material* find_material(std::string_view key) {
     if (key == m.key)
       return &m;
   return nullptr;
+}
+
+// The material `key`, or std::invalid_argument "<who>: unknown material '<key>'".
+inline const Material& material_or_throw(std::string_view key, const std::string& who) {
+  const Material* m = find_material(key);
+  if (!m)
+    throw std::invalid_argument(who + ": unknown material '" + std::string(key) + "'");
+  return *m;
+}
+
+// The physical viscosity of a liquid: eta_param when >= 0 (a study's override), else the
+// material's; it must be > 0 (std::invalid_argument naming <who> and the material otherwise).
+inline double liquid_viscosity(double eta_param, const Material& m, const std::string& who) {
+  const double eta = eta_param >= 0.0 ? eta_param : m.eta;
+  if (!(eta > 0.0))
+    throw std::invalid_argument(who + ": the liquid needs a viscosity eta > 0 (material '" + m.key +
+                                "' has none in Table 1: set eta)");
+  return eta;
 }
 
 inline std::vector<std::string> material_keys() {

@@ -44,13 +44,11 @@
 #include "cases/time_loop.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/erf_fit.hpp"
-#include "io/hdf5.hpp"
 #include "io/job_attributes.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
@@ -64,10 +62,8 @@ struct Side {
 Side resolve_side(const Params& prm, const std::string& key) {
   Side s{-1.0, -1.0, -1.0};
   if (key != "custom") {
-    const Material* m = find_material(key);
-    if (!m)
-      throw std::invalid_argument("shear_layer: unknown material '" + key + "'");
-    s = {m->rho0, m->c0, m->eta};
+    const Material& m = material_or_throw(key, "shear_layer");
+    s = {m.rho0, m.c0, m.eta};
   }
   if (get_real(prm, "rho0") >= 0.0)
     s.rho0 = get_real(prm, "rho0");
@@ -154,7 +150,6 @@ public:
       p.scalar(f.eta)[i] = s.eta;
     });
     n_fluid_ = p.size();
-    rho0_ = f.rho0;
     nx_ = nx;
 
     Flow<D> flow;
@@ -178,12 +173,7 @@ public:
   bool after_step(FlowScheme<D>&, const LoopState& at, const StepStats& st) override {
     const Particles<D>& p = *p_;
     dt_sum_ += st.dt;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.kind[i] == Kind::Fluid)
-        max_drho_ = std::max(max_drho_, std::abs(p.rho[i] / p.scalar(rho0_)[i] - 1.0));
-    if (!std::isfinite(max_drho_) || max_drho_ > 0.5)
-      throw std::runtime_error("density deviation " + std::to_string(max_drho_) + " after " +
-                               std::to_string(at.steps) + " steps");
+    contact::check_density_deviation(p, max_drho_, 0.5, at.steps);
     while (next_ < 5 && at.t >= fit_at[next_] * t_end_ * (1.0 - 1e-12)) {
       sample();
       if (two_) {
@@ -197,10 +187,10 @@ public:
       }
       ++next_;
     }
-    while (prof_next_ < prof_t_.size() && at.t >= prof_t_[prof_next_] * (1.0 - 1e-12)) {
+    // prof_at_ holds one sampled time per requested time reached so far
+    while (prof_at_.size() < prof_t_.size() && at.t >= prof_t_[prof_at_.size()] * (1.0 - 1e-12)) {
       column_profile();
       prof_at_.push_back(at.t);
-      ++prof_next_;
     }
     return false;
   }
@@ -288,7 +278,6 @@ public:
     dt_sum_ = a[0], max_drho_ = a[1], fit_rms_ = a[2], next_ = static_cast<int>(a[3]);
     prof_at_ = in.at("shear_layer/profile_t");
     prof_u_ = in.at("shear_layer/profiles");
-    prof_next_ = prof_at_.size();
     if (prof_u_.size() != prof_at_.size() * static_cast<std::size_t>(nx_))
       throw std::runtime_error("shear_layer: checkpoint profiles do not match nx");
   }
@@ -300,14 +289,13 @@ private:
   Side L_{}, R_{};
   bool two_ = false;
   double U0_ = 0.0, D0_ = 0.0, t_end_ = 0.0, half_ = 0.0;
-  int ny_ = 0, nz_ = 0, rho0_ = -1;
+  int ny_ = 0, nz_ = 0;
   std::size_t n_fluid_ = 0;
   Particles<D>* p_ = nullptr;
   std::vector<double> xs_, us_, nu_k_, nul_k_, nur_k_;
   double dt_sum_ = 0.0, max_drho_ = 0.0, fit_rms_ = 0.0;
   int next_ = 0, nx_ = 0;
   std::vector<double> prof_t_, prof_at_, prof_u_; // requested and sampled times, nx_ per sample
-  std::size_t prof_next_ = 0;
 
   ShearLayer sl() const { return {U0_, two_ ? 0.0 : half_, 3}; }
   // Mean U_y of the fluid particles of each lattice column (width D0), appended to prof_u_.
@@ -357,16 +345,13 @@ private:
       worst = std::max(worst, std::sqrt(e2 / cols[0].size()) / U0_);
     }
     res.add("selfsim_err", worst);
-    if (ctx_.output_dir.empty())
-      return;
-    std::filesystem::create_directories(ctx_.output_dir);
-    io::H5Writer h5(ctx_.output_dir / "shear_layer.h5");
-    io::write_job_attributes(h5, "shear_layer", prm_, ctx_.job_key);
-    std::vector<std::string> names{"xi", "u_phys"};
-    for (std::size_t k = 0; k < prof_at_.size(); ++k)
-      names.push_back("u_t" + std::to_string(k + 1));
-    h5.write_columns("similarity", names, cols);
-    h5.close();
+    if (auto h5 = io::open_job_output(ctx_, "shear_layer", prm_)) {
+      std::vector<std::string> names{"xi", "u_phys"};
+      for (std::size_t k = 0; k < prof_at_.size(); ++k)
+        names.push_back("u_t" + std::to_string(k + 1));
+      h5->write_columns("similarity", names, cols);
+      h5->close();
+    }
   }
   void sample() {
     xs_.clear(), us_.clear();

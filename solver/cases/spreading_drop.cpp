@@ -34,14 +34,12 @@
 #include "cases/time_loop.hpp"
 #include "core/lattice.hpp"
 #include "diagnostics/gravity_current.hpp"
-#include "io/hdf5.hpp"
 #include "io/job_attributes.hpp"
 #include "io/particle_fields.hpp"
 #include "schemes/contact/scheme_info.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <stdexcept>
 
@@ -52,16 +50,9 @@ namespace {
 class SpreadingDropCase final : public FlowCase<2> {
 public:
   SpreadingDropCase(const Params& prm, const RunContext& ctx) : prm_(prm), ctx_(ctx) {
-    const Material* mat = find_material(get_string(prm, "material"));
-    if (!mat)
-      throw std::invalid_argument("spreading_drop: unknown material '" +
-                                  get_string(prm, "material") + "'");
-    rho0_ = mat->rho0, c0_ = mat->c0;
-    eta_ = get_real(prm, "eta") >= 0.0 ? get_real(prm, "eta") : mat->eta;
-    if (!(eta_ > 0.0))
-      throw std::invalid_argument(
-          "spreading_drop: the liquid needs a viscosity eta > 0 (material '" +
-          std::string(mat->key) + "' has none in Table 1: set eta)");
+    const Material& mat = material_or_throw(get_string(prm, "material"), "spreading_drop");
+    rho0_ = mat.rho0, c0_ = mat.c0;
+    eta_ = liquid_viscosity(get_real(prm, "eta"), mat, "spreading_drop");
     D0_ = get_real(prm, "D0");
     n_R_ = static_cast<int>(get_int(prm, "R_over_D0"));
     R_ = n_R_ * D0_;
@@ -113,17 +104,10 @@ public:
   double speed_bound() const override { return 100.0 * U_g_; }
 
   bool after_step(FlowScheme<2>&, const LoopState& at, const StepStats&) override {
-    if (at.steps % 100 == 0) {
-      for (std::size_t i = 0; i < p_->size(); ++i)
-        if (p_->kind[i] == Kind::Fluid)
-          max_drho_ = std::max(max_drho_, std::abs(p_->rho[i] / rho0_ - 1.0));
-      if (!std::isfinite(max_drho_) || max_drho_ > 0.1)
-        throw std::runtime_error("density deviation " + std::to_string(max_drho_) + " after " +
-                                 std::to_string(at.steps) + " steps");
-    }
-    if (at.t >= (static_cast<double>(ts_.size()) * dt_sample_) * (1.0 - 1e-12) ||
-        at.t >= t_end_ * (1.0 - 1e-12))
-      sample(at.t);
+    if (at.steps % 100 == 0)
+      contact::check_density_deviation(*p_, max_drho_, 0.1, at.steps);
+    if (at.t >= static_cast<double>(ts_.size()) * dt_sample_ * (1.0 - 1e-12))
+      sample(at.t); // the last sample, at t_end, is finish()'s
     return false;
   }
 
@@ -164,17 +148,14 @@ public:
     res.add("n_fluid", static_cast<double>(n_fluid_));
     res.add("n_solid", static_cast<double>(n_solid_));
 
-    if (!ctx_.output_dir.empty()) {
-      std::filesystem::create_directories(ctx_.output_dir);
-      io::H5Writer h5(ctx_.output_dir / "spreading_drop.h5");
-      io::write_job_attributes(h5, "spreading_drop", prm_, ctx_.job_key);
+    if (auto h5 = io::open_job_output(ctx_, "spreading_drop", prm_)) {
       std::vector<double> tt(ts_.size()), aa(a_.size()), hh(h_.size());
       for (std::size_t k = 0; k < ts_.size(); ++k)
         tt[k] = ts_[k] / t_g_, aa[k] = a_[k] / R_, hh[k] = h_[k] / R_;
-      h5.write_columns("series", {"t", "t_over_tg", "half_width_over_R", "height_over_R"},
-                       {ts_, tt, aa, hh});
-      io::write_fluid_fields(h5, *p_);
-      h5.close();
+      h5->write_columns("series", {"t", "t_over_tg", "half_width_over_R", "height_over_R"},
+                        {ts_, tt, aa, hh});
+      io::write_fluid_fields(*h5, *p_);
+      h5->close();
     }
   }
 

@@ -4,11 +4,17 @@
 // double, String as a string, Bool as h5py's boolean enum (io/hdf5.hpp). A reader (h5py:
 // f.attrs["n_side"] is an integer, f.attrs["tvf"] a string) needs no table of the case's
 // parameters to know what made the file.
+//
+// open_job_output: a case's HDF5 output, <output_dir>/<case>.h5 with these attributes written, or
+// nullptr when the job has no output directory (a unit test, `runner one` without one).
 #pragma once
 
 #include "core/params.hpp"
+#include "core/run.hpp"
 #include "io/hdf5.hpp"
 
+#include <filesystem>
+#include <memory>
 #include <string>
 #include <variant>
 
@@ -29,6 +35,16 @@ inline void write_job_attributes(H5Writer& w, const std::string& case_name, cons
     else
       w.attribute(k, std::get<std::string>(v));
   }
+}
+
+inline std::unique_ptr<H5Writer> open_job_output(const RunContext& ctx,
+                                                 const std::string& case_name, const Params& prm) {
+  if (ctx.output_dir.empty())
+    return nullptr;
+  std::filesystem::create_directories(ctx.output_dir);
+  auto w = std::make_unique<H5Writer>(ctx.output_dir / (case_name + ".h5"));
+  write_job_attributes(*w, case_name, prm, ctx.job_key);
+  return w;
 }
 
 } // namespace sph::io

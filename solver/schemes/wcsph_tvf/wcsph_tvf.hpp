@@ -258,6 +258,17 @@ inline Vec<D> partner_velocity(const Particles<D>& p, const Vec<D>* v_wall, std:
   return p.v[j];
 }
 
+// Pressure of wall particle w as fluid particle a sees it across their pair (distance r, e the unit
+// vector from w to a): p_w = p_a + rho_a r max(0, (F_prior_a / m_a - a_w) . (-e)), a_w the wall's
+// acceleration (a_wall nullptr: at rest). Used by FirstHalf and, reversed, WallPressureReaction.
+template <int D>
+inline double wall_pressure(const Particles<D>& p, const std::vector<Vec<D>>& f_prior,
+                            const Vec<D>* a_wall, std::size_t a, std::size_t w, double r,
+                            const Vec<D>& e) {
+  const Vec<D> a_rel = a_wall ? Vec<D>(f_prior[a] / p.m[a] - a_wall[w]) : f_prior[a] / p.m[a];
+  return p.p[a] + p.rho[a] * r * std::max(0.0, a_rel.dot(-e));
+}
+
 // Viscous force F^nu_i = V_i sum_j 2 mu (v_i - v_j) / (r_ij + eps h) V_j dW_ij [notes 2d].
 template <int D>
 struct ViscousForce {
@@ -352,10 +363,8 @@ struct FirstHalf {
     const double Vj = p.V[j];
     double pj = p.p[j];
     const bool wall = p.kind[j] == Kind::Wall;
-    if (wall) {
-      const Vec<D> a_rel = a_wall ? Vec<D>(f_prior[i] / p.m[i] - a_wall[j]) : f_prior[i] / p.m[i];
-      pj = p.p[i] + p.rho[i] * q.r * std::max(0.0, a_rel.dot(-e));
-    }
+    if (wall)
+      pj = wall_pressure(p, f_prior, a_wall, i, j, q.r, e);
     const Vec<D> gw = (Vj * q.dW) * e; // V_j grad_i W_ij
     if (!B)
       a.f -= (p.p[i] + pj) * gw;
@@ -457,8 +466,7 @@ struct WallPressureReaction {
     if (p.kind[k] != Kind::Fluid)
       return;
     const Vec<D> e_aw = -q.r_ij / q.r;
-    const Vec<D> a_rel = a_wall ? Vec<D>(f_prior[k] / p.m[k] - a_wall[w]) : f_prior[k] / p.m[k];
-    const double pw = p.p[k] + p.rho[k] * q.r * std::max(0.0, a_rel.dot(-e_aw));
+    const double pw = wall_pressure(p, f_prior, a_wall, k, w, q.r, e_aw);
     const Vec<D> gw = (p.V[w] * q.dW) * e_aw; // V_w grad_a W_aw
     const Vec<D> t = B ? Vec<D>((*B)[k] * gw) : gw;
     a.f += (p.V[k] * (p.p[k] + pw)) * t;
