@@ -5,7 +5,7 @@
 //  - viscous force: zero on a linear shear, 2 mu S on u = (y^2, 0) with S the lattice's quadrature
 //    factor, and the mirrored wall partner 2 v_wall - v_i;
 //  - pressure force: -V G S1 / D for a linear pressure, and hydrostatic balance with the kernel
-//    correction;
+//    correction; the wall pressure of an accelerating wall (a box accelerating at a is gravity -a);
 //  - body force: v = g Dt after one step of a periodic lattice at rest;
 //  - Riemann dissipation: its value on one approaching / separating pair, every limiter setting;
 //  - density summation, equation of state and the two time-step criteria.
@@ -118,6 +118,51 @@ TEST(WcsphTvfTerms, PressureForceOnLinearAndHydrostaticPressure) {
   for (std::size_t i = 0; i < L.p.size(); ++i)
     if (L.fluid(i))
       ASSERT_LT((F[i] + L.p.m[i] * g).norm(), 1e-10 * L.p.m[i] * g.norm()) << i;
+}
+
+// The wall pressure of a moving wall (ops::wall_pressure, used by FirstHalf and the FSI wall
+// reaction; docs/fsi.md): per fluid-wall pair p_w = p_i + rho_i r_ij max(0, (f_i / m_i - a_w) .
+// (-e_ij)) [Adami, Hu & Adams 2012, eq. 27, with the wall's acceleration a_w; pairwise as
+// SPHinXsys]. For the fluid at rest in a box accelerating at a = A y^ (no gravity) the pressure is
+// p = rho A (1 - y), and the extrapolation gives a wall particle exactly that linear field at its
+// own place (r_ij e_ij . y^ = y_i - y_j), so with the kernel correction the fluid next to the
+// bottom wall feels F^p_i = m_i a: it accelerates with the box. The same column with the walls at
+// rest under gravity g = -a (f_prior = m g) is in balance, F^p_i + m_i g = 0: an accelerating wall
+// is gravity the other way. A wall accelerating the wrong way gives p_w = p_i (the clamp), so the
+// bottom rows see a pressure deficit of order rho A h. Tolerance 1e-10 relative.
+TEST(WcsphTvfTerms, WallPressureFollowsTheWallsAcceleration) {
+  Lat L(16, h_over_dx);
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    if (L.p.r[i][1] < 0.0)
+      L.p.kind[i] = Kind::Wall; // the bottom pad layers are the wall
+  std::vector<Mat<2>> B(L.p.size());
+  std::vector<double> tr(L.p.size());
+  CorrectionMatrix<2> cm{L.p.V, B, tr};
+  interact(L.nl, cm);
+  const double A = 7.0, rho = 1.0;
+  const Vec2 a(0.0, A);
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    L.p.p[i] = L.p.kind[i] == Kind::Wall ? -1e3 : rho * A * (1.0 - L.p.r[i][1]); // wall p unused
+  std::vector<Vec2> zero(L.p.size(), Vec2::Zero()), a_wall(L.p.size(), a), F(L.p.size());
+  std::vector<double> drho(L.p.size());
+  ops::FirstHalf<2> moving{L.p, &B, zero, nullptr, 0.0, 0.1, F, drho};
+  moving.a_wall = a_wall.data();
+  interact(L.nl, moving, L.sampled());
+  int next_to_wall = 0;
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    if (L.fluid(i)) {
+      ASSERT_LT((F[i] - L.p.m[i] * a).norm(), 1e-10 * L.p.m[i] * A) << i;
+      next_to_wall += L.p.r[i][1] < L.kernel.support();
+    }
+  EXPECT_GE(next_to_wall, 2 * 16); // the wall is within the support of two rows at least
+  std::vector<Vec2> f_gravity(L.p.size());
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    f_gravity[i] = -L.p.m[i] * a;
+  ops::FirstHalf<2> resting{L.p, &B, f_gravity, nullptr, 0.0, 0.1, F, drho};
+  interact(L.nl, resting, L.sampled());
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    if (L.fluid(i))
+      ASSERT_LT((F[i] + f_gravity[i]).norm(), 1e-10 * L.p.m[i] * A) << i;
 }
 
 // The Riemann dissipation of one pair (2nd half): F_i = V_i rho0 c0 beta u V_j dW e with
