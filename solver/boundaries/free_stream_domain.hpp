@@ -14,12 +14,23 @@
 //   save_state/load_state  its counters (masses in, out, lost; the next particle id)
 // Mass balance: mass_in() (emitted), mass_out() (crossed x = L), mass_lost() (deleted beyond the
 // lateral keep margin), cumulative.
+// Two resolution levels (band_rows > 0; issue 19, section 2): the fine band |y - H/2| < band_rows
+// dx along the whole domain holds particles of spacing dx / 2 (2^D per lattice cell, mass
+// rho0 (dx/2)^D), the rest spacing dx. Each level is emitted on its own rows (an emitted particle
+// has the level of where it is created: one emitter for the band, one each side of it), and
+// particles that cross the band's edges are split or merged (boundaries/refinement.hpp, hysteresis
+// one coarse spacing), which also writes h_i = h (m_i / (rho0 dx^D))^(1/D) into the field "h"
+// that attach() hands to the flow. The lateral free surfaces are coarse: the free-stream rule uses
+// h.
 #pragma once
 
 #include "boundaries/open_boundary.hpp"
+#include "boundaries/refinement.hpp"
 #include "io/checkpoint.hpp"
 
+#include <algorithm>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 namespace sph::open_boundary {
@@ -36,13 +47,27 @@ public:
     double lateral_margin = 1; // fluid beyond this distance outside the lateral sides is deleted
     VelocityField<D> u_in;     // inflow and free stream
     bool extrapolate_inlet_pressure = false;
+    int band_rows = 0; // half-width of the fine band in rows of dx (0: one level)
   };
 
-  explicit FreeStreamDomain(Config c)
-      : c_(std::move(c)), emitter_(emitter_config(c_)), disposer_(disposer_config(c_)) {}
+  explicit FreeStreamDomain(Config c) : c_(std::move(c)), disposer_(disposer_config(c_)) {
+    if (c_.band_rows <= 0) {
+      emitters_.emplace_back(emitter_config(c_, c_.dx, 0, c_.n[1], 1));
+      return;
+    }
+    const int n1 = c_.n[1], lo = n1 / 2 - c_.band_rows, hi = (n1 + 1) / 2 + c_.band_rows;
+    if (n1 % 2 != 0 || lo < 1 || hi > n1 - 1)
+      throw std::invalid_argument("FreeStreamDomain: the fine band needs an even number of rows "
+                                  "and a coarse row on each side of it");
+    emitters_.emplace_back(emitter_config(c_, c_.dx, 0, lo, 1));
+    emitters_.emplace_back(emitter_config(c_, 0.5 * c_.dx, 2 * lo, 2 * hi, 3));
+    emitters_.emplace_back(emitter_config(c_, c_.dx, hi, n1, 4));
+  }
 
   double length() const { return c_.n[0] * c_.dx; }
-  const Emitter<D>& emitter() const { return emitter_; }
+  // The emitter of the coarse rows below the band (the only one without a band).
+  const Emitter<D>& emitter() const { return emitters_.front(); }
+  const refinement::TwoLevels<D>* levels() const { return levels_.get(); }
   const Disposer<D>& disposer() const { return disposer_; }
   const FreeStream<D>& free_stream() const { return *fs_; }
 
@@ -51,15 +76,34 @@ public:
   void fill(Particles<D>& p, Inside inside) {
     zone_field(p);
     const double m = c_.rho0 * std::pow(c_.dx, D);
-    std::array<int, D> lo{};
-    for_each_lattice_point<D>(lo, c_.n, c_.dx, [&](const Vec<D>& x, const std::array<int, D>&) {
+    auto add = [&](const Vec<D>& x, double mass) {
       if (!inside(x))
         return;
-      const std::size_t k = p.add(x, m, c_.rho0);
+      const std::size_t k = p.add(x, mass, c_.rho0);
       p.v[k] = c_.u_in(x, 0.0);
+    };
+    std::array<int, D> lo{};
+    for_each_lattice_point<D>(lo, c_.n, c_.dx, [&](const Vec<D>& x, const std::array<int, D>&) {
+      if (!(in_band(x[1]) > 0.0))
+        return add(x, m);
+      for (int s = 0; s < (1 << D); ++s) { // the cell's 2^D fine points
+        Vec<D> y = x;
+        for (int a = 0; a < D; ++a)
+          y[a] += (s >> a & 1 ? 0.25 : -0.25) * c_.dx;
+        add(y, m / (1 << D));
+      }
     });
     next_id_ = static_cast<std::int64_t>(p.size());
-    emitter_.fill(p, 0.0, next_id_);
+    for (const auto& e : emitters_)
+      e.fill(p, 0.0, next_id_);
+    if (c_.band_rows > 0) {
+      typename refinement::TwoLevels<D>::Config rc;
+      rc.dx_fine = 0.5 * c_.dx, rc.rho0 = c_.rho0, rc.h_over_dx = c_.h / c_.dx;
+      rc.depth = [this](const Vec<D>& x) { return in_band(x[1]); };
+      rc.margin = c_.dx;
+      levels_ = std::make_unique<refinement::TwoLevels<D>>(p, rc);
+      levels_->set_h(p);
+    }
   }
 
   // A non-periodic box, the free-stream hooks and (optionally) the inlet pressure extrapolation.
@@ -71,12 +115,19 @@ public:
     f.box.lo = Vec<D>::Zero();
     for (int a = 0; a < D; ++a)
       f.box.hi[a] = c_.n[a] * c_.dx, f.box.periodic[a] = false;
+    if (levels_)
+      f.h = levels_->h_field();
     if (c_.extrapolate_inlet_pressure) {
-      const int zone = emitter_.config().zone;
-      f.buffer_pressure = [zone](Particles<D>& q, const NeighborList<D>& nl) {
+      std::vector<int> zones;
+      for (const auto& e : emitters_)
+        zones.push_back(e.config().zone);
+      f.buffer_pressure = [zones](Particles<D>& q, const NeighborList<D>& nl) {
         const int zk = zone_field(q);
         const auto& z = q.scalar(zk);
-        auto mine = [&](std::size_t i) { return q.kind[i] == Kind::Buffer && z[i] == zone; };
+        auto mine = [&](std::size_t i) {
+          return q.kind[i] == Kind::Buffer &&
+                 std::find(zones.begin(), zones.end(), static_cast<int>(z[i])) != zones.end();
+        };
         BufferPressure<D, decltype(mine)> op{q.kind, q.p, mine, 0.0};
         interact(nl, op, mine);
       };
@@ -84,42 +135,74 @@ public:
   }
 
   // Before a step (t_mid: the time at which the inlet velocity holds over it): disposer, then
-  // emitter. True when particles were added or removed.
+  // emitters, then the levels' splits and merges. True when particles were added or removed.
   bool before_step(Particles<D>& p, double t_mid) {
-    const bool removed = disposer_.update(p);
-    const bool added = emitter_.update(p, t_mid, next_id_) > 0;
-    return removed || added;
+    bool changed = disposer_.update(p);
+    for (auto& e : emitters_)
+      changed |= e.update(p, t_mid, next_id_) > 0;
+    if (levels_ && (levels_->update(p, next_id_) > 0 || changed))
+      changed = true; // update() also gave the emitted particles their h
+    return changed;
   }
 
-  double mass_in() const { return emitter_.mass_in(); }
+  double mass_in() const {
+    double m = 0.0;
+    for (const auto& e : emitters_)
+      m += e.mass_in();
+    return m;
+  }
   double mass_out() const { return disposer_.mass_out(); }
   double mass_lost() const { return disposer_.mass_lost(); }
 
   std::vector<std::string> state_names(const std::string& prefix) const {
+    if (levels_)
+      return {prefix + "/open_boundary", prefix + "/refinement"};
     return {prefix + "/open_boundary"};
   }
   void save_state(StateArrays& out, const std::string& prefix) const {
     out[prefix + "/open_boundary"] = {mass_in(), mass_out(), mass_lost(),
                                       static_cast<double>(next_id_)};
+    if (levels_)
+      out[prefix + "/refinement"] = {static_cast<double>(levels_->splits()),
+                                     static_cast<double>(levels_->merges())};
   }
   void load_state(const StateArrays& in, const std::string& prefix) {
     const auto& a = in.at(prefix + "/open_boundary");
     io::expect_state_size(a, 4, "checkpoint array " + prefix + "/open_boundary");
-    emitter_.set_mass_in(a[0]);
+    for (auto& e : emitters_) // the total is kept by the first emitter
+      e.set_mass_in(&e == &emitters_.front() ? a[0] : 0.0);
     disposer_.set_masses(a[1], a[2]);
     next_id_ = static_cast<std::int64_t>(a[3]);
+    if (levels_) {
+      const auto& r = in.at(prefix + "/refinement");
+      io::expect_state_size(r, 2, "checkpoint array " + prefix + "/refinement");
+      levels_->set_counts(static_cast<std::size_t>(r[0]), static_cast<std::size_t>(r[1]));
+    }
   }
 
 private:
   Config c_;
-  Emitter<D> emitter_;
+  std::vector<Emitter<D>> emitters_;
   Disposer<D> disposer_;
+  std::unique_ptr<refinement::TwoLevels<D>> levels_;
   std::unique_ptr<FreeStream<D>> fs_;
   std::int64_t next_id_ = 0;
 
-  static typename Emitter<D>::Config emitter_config(const Config& c) {
+  // Signed distance into the fine band (negative outside; -1 without a band).
+  double in_band(double y) const {
+    if (c_.band_rows <= 0)
+      return -1.0;
+    return c_.band_rows * c_.dx - std::abs(y - 0.5 * c_.n[1] * c_.dx);
+  }
+
+  // The emitter of rows [lo, hi) (axis 1, in units of its spacing dx_e) of zone `zone`.
+  static typename Emitter<D>::Config emitter_config(const Config& c, double dx_e, int lo, int hi,
+                                                    int zone) {
     typename Emitter<D>::Config e;
-    e.x_in = 0.0, e.layers = c.layers, e.dx = c.dx, e.hi = c.n, e.rho0 = c.rho0;
+    e.x_in = 0.0, e.layers = c.layers, e.dx = dx_e, e.rho0 = c.rho0, e.zone = zone;
+    for (int a = 1; a < D; ++a)
+      e.hi[a] = static_cast<int>(std::lround(c.n[a] * c.dx / dx_e));
+    e.lo[1] = lo, e.hi[1] = hi;
     e.u_in = c.u_in, e.extrapolate_pressure = c.extrapolate_inlet_pressure;
     return e;
   }

@@ -27,14 +27,15 @@
 // cylinder); no sponge zones, fluid farther than lateral_margin D outside H deleted. SPHinXsys'
 // domain is 17 D x 8 D from its emitter with the cylinder 7 D downstream of it (D = 2: x in
 // [-4, 30], y in [0, 16], centre (10, 8)): domain_length = 17, domain_height = 8,
-// upstream_length = 7 here. Uniform resolution only.
+// upstream_length = 7 here. With refinement_band b > 0 the band is emitted fine and its edges
+// split and merge particles (boundaries/refinement.hpp): the level follows the position.
 // Variable resolution (seed 002 section 4.4; refinement_band b > 0): the band |y - H/2| < b along
 // the whole box (SPHinXsys' refinement region is such a band) holds particles of spacing
 // dx = D / D_over_dx, the rest spacing 2 dx (one refinement level, as SPHinXsys); each particle
 // keeps its mass rho0 dx_i^2 and smoothing length h_i = h_over_dx dx_i (schemes/wcsph_tvf:
-// pair kernels with (h_i + h_j)/2, mass summation, TVF shift alpha h_i^2). No splitting or
-// merging: particles that leave the band keep their size; in the periodic box the band re-enters
-// at x = 0 as it left.
+// pair kernels with (h_i + h_j)/2, mass summation, TVF shift alpha h_i^2). In the periodic box
+// there is no splitting or merging: particles that leave the band keep their size and the band
+// re-enters at x = 0 as it left (boundary = free_stream: see above).
 // Start: with ramp_time T > 0 the fluid starts at rest and U_inf(t) = U (1 - cos(pi t / T)) / 2
 // for t < T (SPHinXsys: T = 2 with D = 2), the whole box driven by the uniform body acceleration
 // dU_inf/dt; T = 0 starts impulsively (u = U everywhere). At t = T a transverse velocity nudge
@@ -114,7 +115,7 @@ public:
     const double h = get_real(prm_, "h_over_dx") * dx;
     const double support = kernel_support_factor(get_string(prm_, "kernel")) * h;
     if (open_)
-      return build_open(p, nx, ny, h, support);
+      return build_open(p, nx, ny, dxc, nband, h, support);
     if (band > 0.0 && (nband * dxc < R + support || nband * dxc > 0.5 * H_ - Ly_))
       throw std::invalid_argument(
           "cylinder_free_stream: refinement_band must hold the cylinder and a kernel support and "
@@ -252,8 +253,13 @@ public:
     res.add("advection_steps", static_cast<double>(at.steps));
     res.add("wall_s", wall);
     res.add("n_fluid", static_cast<double>(n_fluid));
-    if (open_)
+    if (open_) {
       res.add("mass_lost", dom_->mass_lost());
+      if (const auto* lv = dom_->levels()) { // cumulative: particles split, groups merged
+        res.add("particle_splits", static_cast<double>(lv->splits()));
+        res.add("particle_merges", static_cast<double>(lv->merges()));
+      }
+    }
 
     // The job's parameters typed and its key (io/job_attributes.hpp), and the settling time.
     if (auto h5 = io::open_job_output(ctx_, "cylinder_free_stream", prm_)) {
@@ -333,17 +339,22 @@ private:
 
   // boundary = "free_stream": the cylinder, the fluid lattice of [0, L] x [0, H] outside it and
   // the open boundaries (boundaries/free_stream_domain.hpp).
-  Flow<2> build_open(Particles<2>& p, int nx, int ny, double h, double support) {
-    if (get_real(prm_, "refinement_band") > 0.0)
+  // nx x ny cells of the coarse spacing dxc (= dx_ without a band); the fine band holds nband
+  // coarse rows each side of H / 2.
+  Flow<2> build_open(Particles<2>& p, int nx, int ny, double dxc, int nband, double h,
+                     double support) {
+    if (nband > 0 && (nband * dxc < R + support || nband * dxc > 0.5 * H_ - dxc))
       throw std::invalid_argument(
-          "cylinder_free_stream: boundary = free_stream runs at uniform resolution only");
+          "cylinder_free_stream: refinement_band must hold the cylinder and a kernel support and "
+          "leave a coarse row each side (0.5 + 2.6 / D_over_dx <= refinement_band <= "
+          "domain_height / 2 - 2 / D_over_dx)");
     if (c_[0] - R < 2.0 * support || c_[0] + R + D > L_ || R + D > 0.5 * H_)
       throw std::invalid_argument("cylinder_free_stream: the cylinder must lie one D inside the "
                                   "open domain (upstream_length + 1.5 <= domain_length, "
                                   "domain_height >= 3)");
     add_cylinder(p, support);
     open_boundary::FreeStreamDomain<2>::Config c;
-    c.n = {nx, ny}, c.dx = dx_, c.rho0 = rho0, c.h = h;
+    c.n = {nx, ny}, c.dx = dxc, c.rho0 = rho0, c.h = h * dxc / dx_, c.band_rows = nband;
     c.layers = static_cast<int>(std::ceil(support / dx_ - 1e-9)) + 1;
     c.lateral_margin = get_real(prm_, "lateral_margin");
     c.u_in = [this](const V2&, double t) { return V2(u_inf(t), 0.0); };

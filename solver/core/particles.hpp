@@ -52,6 +52,19 @@ public:
     return r.size() - 1;
   }
 
+  // Appends a copy of particle i, every field and extra field included; returns its index
+  // (splitting a particle, boundaries/refinement.hpp).
+  std::size_t append_copy(std::size_t i) {
+    r.push_back(Vec<D>(r[i])), v.push_back(Vec<D>(v[i])), m.push_back(double(m[i]));
+    rho.push_back(double(rho[i])), p.push_back(double(p[i])), V.push_back(double(V[i]));
+    kind.push_back(Kind(kind[i])), id.push_back(std::int64_t(id[i]));
+    for (auto& f : scalars_)
+      f.data.push_back(double(f.data[i]));
+    for (auto& f : vectors_)
+      f.data.push_back(Vec<D>(f.data[i]));
+    return r.size() - 1;
+  }
+
   // Every field, extras included, to n particles (new ones zero-initialised, Kind::Fluid; for
   // restoring a checkpoint of a case that adds and removes particles).
   void resize(std::size_t n) {

@@ -8,8 +8,15 @@
 //  - the free-stream surface indicator marks the two outer rows of a slab and no interior row;
 //    the near-surface density rule and the velocity correction give their formulas' values;
 //  - a uniform free stream through the empty box, from a disturbed start, becomes and stays
-//    uniform over 25 flow-throughs, with the particle count steady and the mass fluxes balanced.
+//    uniform over 25 flow-throughs, with the particle count steady and the mass fluxes balanced;
+//  - two resolution levels (boundaries/refinement.hpp, issue 19 section 2): a coarse lattice
+//    moved into the fine region splits into the fine lattice exactly, and merges back into the
+//    coarse one exactly when the region moves away; mass and momentum are kept to round-off with
+//    random velocities; the hysteresis leaves particles near the interface alone; h follows the
+//    mass; the free-stream domain emits each level on its own rows.
+#include "boundaries/free_stream_domain.hpp"
 #include "boundaries/open_boundary.hpp"
+#include "boundaries/refinement.hpp"
 #include "cases/case.hpp"
 #include "core/kernels/wendland_c2.hpp"
 #include "core/lattice.hpp"
@@ -273,4 +280,190 @@ TEST(FreeStreamBox, ExtrapolatedInletPressure) {
   EXPECT_GT(m.at("vel_err_rms_end"), 1e-4); // not cleared (see above)
   EXPECT_LE(m.at("n_fluid_band"), 0.07);
   EXPECT_LT(std::abs(m.at("flux_imbalance")), 0.001);
+}
+
+namespace {
+
+// A coarse cell-centred lattice of spacing 2 dx_f in [0, 1]^2 with random velocities, and the
+// two levels with the fine region {x0 < x}: depth x - x0, margin 0.1.
+struct Levels {
+  static constexpr double dx_f = 0.05;
+  Particles<2> p;
+  double x0 = -10.0; // the fine region's edge (moved by the tests)
+  refinement::TwoLevels<2> lv;
+  std::int64_t next_id = 0;
+  Levels() : lv(fill(p), config(this)) {}
+  static Particles<2>& fill(Particles<2>& p) {
+    UniformRandom rn(3);
+    for_each_lattice_point<2>({0, 0}, {10, 10}, 2 * dx_f, [&](const V2& x, const auto&) {
+      const std::size_t k = p.add(x, 4 * dx_f * dx_f, 1.0 + 0.01 * rn());
+      p.v[k] = V2(rn() - 0.5, rn() - 0.5);
+      p.p[k] = rn();
+    });
+    return p;
+  }
+  static refinement::TwoLevels<2>::Config config(Levels* self) {
+    refinement::TwoLevels<2>::Config c;
+    c.dx_fine = dx_f, c.rho0 = 1.0, c.h_over_dx = 1.3, c.margin = 0.1;
+    c.depth = [self](const V2& x) { return x[0] - self->x0; };
+    return c;
+  }
+  double mass() const {
+    double m = 0.0;
+    for (double mi : p.m)
+      m += mi;
+    return m;
+  }
+  V2 momentum() const {
+    V2 P = V2::Zero();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      P += p.m[i] * p.v[i];
+    return P;
+  }
+  // Positions rounded to the fine half-lattice, sorted (to compare particle sets).
+  std::vector<std::pair<long, long>> sites() const {
+    std::vector<std::pair<long, long>> s;
+    for (const V2& x : p.r)
+      s.push_back({std::lround(x[0] / (0.5 * dx_f)), std::lround(x[1] / (0.5 * dx_f))});
+    std::sort(s.begin(), s.end());
+    return s;
+  }
+};
+
+} // namespace
+
+// Split: every coarse particle deeper than the margin becomes four fine ones at +-dx_f/2 (the fine
+// lattice of the cell), with the parent's velocity; the others keep their level. Merge (the region
+// moved away): the four daughters of each cell share a cell of the global grid, so the coarse
+// lattice comes back to round-off, with the parent velocities. Mass and momentum exact throughout.
+TEST(Refinement, SplitIntoTheFineLatticeAndMergeBack) {
+  Levels L;
+  const auto coarse_sites = L.sites();
+  std::map<std::pair<long, long>, V2> v0; // the coarse velocities by site
+  for (std::size_t i = 0; i < L.p.size(); ++i)
+    v0[{std::lround(L.p.r[i][0] / (0.5 * L.dx_f)), std::lround(L.p.r[i][1] / (0.5 * L.dx_f))}] =
+        L.p.v[i];
+  const double M = L.mass();
+  const V2 P = L.momentum();
+  L.x0 = 0.65; // split where x > 0.75: the coarse columns at x = 0.85, 0.95 (20 particles)
+  EXPECT_EQ(L.lv.update(L.p, L.next_id), 20u);
+  EXPECT_EQ(L.p.size(), 100u + 3 * 20);
+  const auto& h = L.p.scalar(L.lv.h_field());
+  for (std::size_t i = 0; i < L.p.size(); ++i) {
+    const bool fine = L.p.m[i] < 2 * L.dx_f * L.dx_f;
+    EXPECT_EQ(fine, L.p.r[i][0] > 0.8) << i;
+    EXPECT_DOUBLE_EQ(h[i], fine ? 1.3 * L.dx_f : 2.6 * L.dx_f) << i;
+    if (fine) { // on the fine lattice: (k + 1/2) dx_f
+      for (int a = 0; a < 2; ++a)
+        EXPECT_NEAR(std::remainder(L.p.r[i][a] / L.dx_f - 0.5, 1.0), 0.0, 1e-9) << i;
+    }
+  }
+  EXPECT_NEAR(L.mass(), M, 1e-14 * M);
+  EXPECT_LT((L.momentum() - P).norm(), 1e-14 * M);
+  EXPECT_EQ(L.lv.update(L.p, L.next_id), 0u); // nothing more to do
+  L.x0 = 10.0; // all coarse region: every fine particle is deeper than the margin outside
+  EXPECT_EQ(L.lv.update(L.p, L.next_id), 20u); // 20 groups merged
+  ASSERT_EQ(L.p.size(), 100u);
+  EXPECT_EQ(L.sites(), coarse_sites);
+  for (std::size_t i = 0; i < L.p.size(); ++i) {
+    const auto site = std::make_pair(std::lround(L.p.r[i][0] / (0.5 * L.dx_f)),
+                                     std::lround(L.p.r[i][1] / (0.5 * L.dx_f)));
+    EXPECT_LT((L.p.v[i] - v0.at(site)).norm(), 1e-14) << i; // the daughters carried the parent's v
+    EXPECT_DOUBLE_EQ(L.p.m[i], 4 * L.dx_f * L.dx_f);
+  }
+  EXPECT_NEAR(L.mass(), M, 1e-14 * M);
+  EXPECT_LT((L.momentum() - P).norm(), 1e-14 * M);
+  EXPECT_EQ(L.lv.splits(), 20u);
+  EXPECT_EQ(L.lv.merges(), 20u);
+}
+
+// Merging particles that are not on a lattice (random fine positions and velocities): groups of
+// four in a grid cell, mass and momentum kept to round-off; particles within the margin of the
+// interface are left alone (hysteresis).
+TEST(Refinement, MergeKeepsMassAndMomentumAndTheMarginIsLeftAlone) {
+  constexpr double dx_f = 0.05;
+  Particles<2> p;
+  UniformRandom rn(11);
+  for_each_lattice_point<2>({0, 0}, {20, 20}, dx_f, [&](V2 x, const auto&) {
+    x += 0.3 * dx_f * V2(rn() - 0.5, rn() - 0.5);
+    const std::size_t k = p.add(x, dx_f * dx_f, 1.0 + 0.02 * (rn() - 0.5));
+    p.v[k] = V2(rn() - 0.5, rn() - 0.5);
+  });
+  refinement::TwoLevels<2>::Config c;
+  c.dx_fine = dx_f, c.margin = 0.1;
+  c.depth = [](const V2& x) { return 0.5 - x[0]; }; // fine for x < 0.5; merge where x > 0.6
+  refinement::TwoLevels<2> lv(p, c);
+  double M = 0.0;
+  V2 P = V2::Zero();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    M += p.m[i], P += p.m[i] * p.v[i];
+  std::int64_t next_id = 400;
+  const std::size_t groups = lv.update(p, next_id);
+  EXPECT_GT(groups, 0u);
+  EXPECT_EQ(p.size(), 400u - 3 * groups);
+  double M1 = 0.0;
+  V2 P1 = V2::Zero();
+  std::size_t merged = 0, fine_far = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    M1 += p.m[i], P1 += p.m[i] * p.v[i];
+    if (p.m[i] > 1.5 * dx_f * dx_f) {
+      ++merged;
+      EXPECT_GT(p.r[i][0], 0.6 - 0.1) << i; // a merged particle comes from beyond the margin
+    } else if (p.r[i][0] > 0.6 + 2 * dx_f) {
+      ++fine_far;
+    }
+    if (p.r[i][0] < 0.6 - 0.5 * dx_f) // within the margin and the fine region: untouched
+      EXPECT_DOUBLE_EQ(p.m[i], dx_f * dx_f) << i;
+  }
+  EXPECT_EQ(merged, groups);
+  EXPECT_NEAR(M1, M, 1e-14 * M);
+  EXPECT_LT((P1 - P).norm(), 1e-14 * M);
+  // The fine lattice jittered by 0.3 dx_f keeps four particles in every grid cell: all merge.
+  EXPECT_EQ(fine_far, 0u);
+}
+
+// The free-stream domain with a fine band: the fluid and each emitter on its own level's lattice
+// (the band's rows at dx / 2, the others at dx), the band's edges where the rows say, and h from
+// the mass; then particles emitted over a few steps keep the level of their rows.
+TEST(Refinement, FreeStreamDomainEmitsEachLevelOnItsRows) {
+  FreeStreamDomain<2>::Config c;
+  c.n = {10, 12}, c.dx = 0.1, c.h = 0.13, c.layers = 3, c.band_rows = 2;
+  c.u_in = [](const V2&, double) { return V2(1.0, 0.0); };
+  FreeStreamDomain<2> dom(c);
+  Particles<2> p;
+  dom.fill(p, [](const V2&) { return true; });
+  ASSERT_NE(dom.levels(), nullptr);
+  auto check = [&] {
+    const auto& h = p.scalar(dom.levels()->h_field());
+    std::size_t fine = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const bool in_band = std::abs(p.r[i][1] - 0.6) < 0.2;
+      const double dx = in_band ? 0.05 : 0.1;
+      EXPECT_DOUBLE_EQ(p.m[i], dx * dx) << i << " at " << p.r[i].transpose();
+      EXPECT_DOUBLE_EQ(h[i], 1.3 * dx) << i;
+      EXPECT_NEAR(std::remainder(p.r[i][1] / dx - 0.5, 1.0), 0.0, 1e-9) << i;
+      fine += in_band;
+    }
+    return fine;
+  };
+  // fluid: 10 x 8 coarse + 10 x 4 cells of 4 fine; buffer: 3 columns of 8 coarse + 3 of 8 fine
+  EXPECT_EQ(check(), 160u + 24u);
+  EXPECT_EQ(p.size(), 80u + 160u + 24u + 24u);
+  auto total = [&] {
+    double m = 0.0;
+    for (double mi : p.m)
+      m += mi;
+    return m;
+  };
+  const double M0 = total();
+  for (int step = 0; step < 10; ++step) {
+    for (std::size_t i = 0; i < p.size(); ++i)
+      p.r[i][0] += 0.5 * 0.05; // the stream moves everything half a fine spacing
+    dom.before_step(p, 0.0);
+  }
+  check();
+  // Nothing deleted yet (the outlet buffer ends at x = 1.3): what was emitted is what was added;
+  // 0.25 of the inlet's area would be 0.30, the lattice columns that crossed x = 0 carry 0.26.
+  EXPECT_NEAR(total() - M0, dom.mass_in(), 1e-12);
+  EXPECT_NEAR(dom.mass_in(), 2 * 0.08 + 5 * 0.02, 1e-12);
 }
