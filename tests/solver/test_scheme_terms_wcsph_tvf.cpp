@@ -231,6 +231,28 @@ TEST(WcsphTvfTerms, AcousticPairsGiveTheSameBitsAsThePairs) {
           ASSERT_NE(G1[i].norm(), 0.0) << i;
       }
   }
+  // Without wall particles the scheme runs the Walls = false policies: the same bits again.
+  for (std::size_t i = 0; i < N; ++i)
+    if (L.p.kind[i] == Kind::Wall)
+      L.p.kind[i] = Kind::Buffer;
+  Options o;
+  std::vector<Vec2> F1(N), F2(N), G1(N), G2(N);
+  std::vector<double> d1(N), d2(N);
+  ops::FirstHalf<2> pairs{L.p, nullptr, f_prior, &a_t, 0.01, 0.1, F1, d1};
+  interact(L.nl, pairs, L.sampled());
+  ops::FirstHalf<2, false> indexed{L.p, nullptr, f_prior, &a_t,    0.01, 0.1,
+                                   F2,  d2,      false,   nullptr, &ap};
+  interact_indexed(L.nl, indexed, L.sampled());
+  ops::SecondHalf<2> s_pairs{L.p, nullptr, o, 10.0, d1, G1};
+  interact(L.nl, s_pairs, L.sampled());
+  ops::SecondHalf<2, LimitedBeta, false> s_indexed{L.p, nullptr, o, 10.0, d2, G2, false, &ap};
+  interact_indexed(L.nl, s_indexed, L.sampled());
+  for (std::size_t i = 0; i < N; ++i)
+    if (L.fluid(i)) {
+      ASSERT_EQ(F1[i], F2[i]) << i;
+      ASSERT_EQ(d1[i], d2[i]) << i;
+      ASSERT_EQ(G1[i], G2[i]) << i;
+    }
 }
 
 namespace {

@@ -105,6 +105,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace sph::wcsph_tvf {
@@ -379,6 +380,7 @@ struct BackgroundPressure {
 template <int D>
 struct AcousticPairs {
   const NeighborList<D>* nl = nullptr; // the pairs (distances r for the wall pressure)
+  bool walls = true;                   // some particle is a wall (the ops' Walls policy)
   std::vector<Vec<D>> e;
   std::vector<double> VdW;
 };
@@ -402,8 +404,9 @@ struct AcousticPairsOf {
 // 1st half (Integration1stHalf, Riemann): pressure force F^p (mean part of P*), the density
 // dissipation (jump part of U*), and for tvf = original Adami's extra stress with
 // dv_i = vt_i - v_i = dt/2 a~_i. Pairs from the neighbour list (interact), or by index with the
-// step's AcousticPairs (interact_indexed, the scheme's sub-steps).
-template <int D>
+// step's AcousticPairs (interact_indexed, the scheme's sub-steps). Walls = false: no partner is a
+// wall particle (the scheme's choice when the particles hold none; no kind test per pair).
+template <int D, bool Walls = true>
 struct FirstHalf {
   const Particles<D>& p;
   const std::vector<Mat<D>>* B;       // nullptr: identity
@@ -433,10 +436,13 @@ struct FirstHalf {
   // Pair (i, j): e = e_ij, VdW = V_j dW_ij, r() = |r_ij| (read only for a wall partner).
   template <class R>
   void term(std::size_t i, std::uint32_t j, const Vec<D>& e, double VdW, R&& r, Acc& a) const {
-    if (walls_only && p.kind[j] != Kind::Wall)
-      return;
+    bool wall = false;
+    if constexpr (Walls) {
+      wall = p.kind[j] == Kind::Wall;
+      if (walls_only && !wall)
+        return;
+    }
     double pj = p.p[j];
-    const bool wall = p.kind[j] == Kind::Wall;
     if (wall)
       pj = wall_pressure(p, f_prior, a_wall, i, j, r(), e);
     const Vec<D> gw = VdW * e; // V_j grad_i W_ij
@@ -461,8 +467,8 @@ struct FirstHalf {
 
 // 2nd half (Integration2ndHalf): continuity with u_ij = (v_i - v_j) . e_ij and the momentum
 // dissipation of the Riemann solver with the limiter (eq. 6) of policy Beta (the scheme's: the
-// options' own, with_beta). Pairs as FirstHalf's.
-template <int D, class Beta = AnyBeta>
+// options' own, with_beta). Pairs and Walls as FirstHalf's.
+template <int D, class Beta = AnyBeta, bool Walls = true>
 struct SecondHalf {
   const Particles<D>& p;
   const Vec<D>* v_wall;
@@ -487,9 +493,10 @@ struct SecondHalf {
   }
   // Pair (i, j): e = e_ij, VdW = V_j dW_ij.
   void term(std::size_t i, std::uint32_t j, const Vec<D>& e, double VdW, Acc& a) const {
-    if (walls_only && p.kind[j] != Kind::Wall)
-      return;
-    const Vec<D> vj = partner_velocity(p, v_wall, i, j);
+    if constexpr (Walls)
+      if (walls_only && p.kind[j] != Kind::Wall)
+        return;
+    const Vec<D> vj = Walls ? partner_velocity(p, v_wall, i, j) : p.v[j];
     const double u = (p.v[i] - vj).dot(e);
     a.d += u * VdW;
     // Added also when beta = 0 (a zero term leaves the sum's bits unchanged): the sign of u_ij
@@ -976,9 +983,20 @@ private:
   // summation, the pairs until the next neighbour search).
   void acoustic_pairs() {
     ap_.nl = &nl_;
+    ap_.walls = std::find(p_.kind.begin(), p_.kind.end(), Kind::Wall) != p_.kind.end();
     ap_.e.resize(nl_.num_pairs()), ap_.VdW.resize(nl_.num_pairs());
     ops::AcousticPairsOf<D> op{nl_, p_.V, ap_};
     interact_indexed(nl_, op, fluid_only());
+  }
+
+  // Calls f(std::true_type) when some particle is a wall, else f(std::false_type) (the Walls
+  // policy of FirstHalf and SecondHalf; outside the pair loops).
+  template <class F>
+  void with_walls(F&& f) const {
+    if (ap_.walls)
+      f(std::true_type{});
+    else
+      f(std::false_type{});
   }
 
   void acoustic(double Dt, StepInfo& info) {
@@ -1014,10 +1032,13 @@ private:
       if (hooks_.buffer_pressure)
         hooks_.buffer_pressure(p_, nl_);
       {
-        ops::FirstHalf<D> op{p_,    B(),          f_prior_, original ? &a_tilde_ : nullptr,
-                             half,  1.0 / rho0c0, force_,   drho,
-                             false, a_wall(),     &ap_};
-        interact_indexed(nl_, op, fluid_only());
+        with_walls([&](auto walls) {
+          ops::FirstHalf<D, decltype(walls)::value> op{
+              p_,    B(),          f_prior_, original ? &a_tilde_ : nullptr,
+              half,  1.0 / rho0c0, force_,   drho,
+              false, a_wall(),     &ap_};
+          interact_indexed(nl_, op, fluid_only());
+        });
       }
       if (coupled()) { // the impulse the fluid's kick takes from each wall, reversed
         ops::WallPressureReaction<D> op{p_, B(), f_prior_, a_wall(), w_p_};
@@ -1050,9 +1071,11 @@ private:
       }
       {
         with_beta(o_, [&](auto beta) {
-          ops::SecondHalf<D, decltype(beta)> op{p_, v_wall(), o_,   rho0c0, drho,
-                                                fd, false,    &ap_, beta};
-          interact_indexed(nl_, op, fluid_only());
+          with_walls([&](auto walls) {
+            ops::SecondHalf<D, decltype(beta), decltype(walls)::value> op{
+                p_, v_wall(), o_, rho0c0, drho, fd, false, &ap_, beta};
+            interact_indexed(nl_, op, fluid_only());
+          });
         });
       }
       if (coupled()) { // the walls' dissipation reaction, for the next kick
