@@ -40,6 +40,9 @@
 //       beta_ij = min(3 max(s u_ij, 0) / c0, 1)   limited; s = +1 "expansion" (SPHinXsys master),
 //                                                  s = -1 "compression" (Zhang 2017) [notes 2b]
 //       beta_ij = 1 (full, no limiter) or 0 (none: central 2nd half, SPHinXsys' Taylor-Green)
+//     (policy types LimitedBeta, FullBeta, NoBeta, chosen outside the pair loops). The sub-steps'
+//     pair loops read e_ij = r_ij / r and V_j dW_ij from ops::AcousticPairs, computed once at the
+//     start of the stage (V_j and the pair geometry are frozen over the step).
 //     vt_i = v_i, or v_i + dt/2 a~_i for tvf = original (Adami's transport velocity at the half
 //     step, so each sub-step moves the particle by an extra dt^2/2 a~_i), whose momentum equation
 //     also gets the extra stress A = rho v (x) (vt - v):  F^A_i = -V_i sum_j V_j (A_i + A_j) .
