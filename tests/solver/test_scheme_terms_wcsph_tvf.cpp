@@ -8,6 +8,7 @@
 //    correction; the wall pressure of an accelerating wall (a box accelerating at a is gravity -a);
 //  - body force: v = g Dt after one step of a periodic lattice at rest;
 //  - Riemann dissipation: its value on one approaching / separating pair, every limiter setting;
+//  - the sub-steps' cached pair coefficients (AcousticPairs): the same bits as the pairs;
 //  - density summation, equation of state and the two time-step criteria.
 #include "core/kernels/wendland_c2.hpp"
 #include "operators/correction_matrix.hpp"
@@ -205,6 +206,98 @@ TEST(WcsphTvfTerms, RiemannDissipationOnAJump) {
   EXPECT_LT((F + 2.5 * e).norm(), 1e-14);
   run(1.0, Dissipation::None, LimiterSign::Expansion, F, drho);
   EXPECT_LT(F.norm(), 1e-14);
+}
+
+// The scheme's sub-steps run FirstHalf and SecondHalf by index on AcousticPairs (e_ij = r_ij / r,
+// V_j dW_ij computed once per step); from a Pair they compute the same two values themselves. On a
+// disordered lattice with random p, v, V, wall partners (the bottom padding: wall pressure,
+// mirrored velocity, accelerating walls), the kernel correction and Adami's extra stress, both
+// paths give the same bits.
+TEST(WcsphTvfTerms, AcousticPairsGiveTheSameBitsAsThePairs) {
+  Lat L(12, h_over_dx, 0.3, 7);
+  UniformRandom rn(11);
+  const std::size_t N = L.p.size();
+  std::vector<Vec2> f_prior(N), a_t(N), v_wall(N), a_wall(N);
+  std::vector<Mat<2>> B(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    if (L.p.kind[i] == Kind::Buffer && L.p.r[i][1] < 0.0)
+      L.p.kind[i] = Kind::Wall;
+    L.p.p[i] = rn() - 0.5, L.p.rho[i] = 1.0 + 0.1 * rn(), L.p.V[i] = L.p.m[i] / L.p.rho[i];
+    L.p.v[i] = Vec2(rn() - 0.5, rn() - 0.5), f_prior[i] = Vec2(rn() - 0.5, rn() - 0.5);
+    a_t[i] = Vec2(rn() - 0.5, rn() - 0.5), v_wall[i] = Vec2(rn(), 0.0);
+    a_wall[i] = Vec2(0.0, rn() - 0.5), B[i] << 1.0 + 0.1 * rn(), 0.1 * rn(), 0.1 * rn(), 1.0;
+  }
+  ops::AcousticPairs<2> ap;
+  ap.nl = &L.nl;
+  ap.e.resize(L.nl.num_pairs()), ap.VdW.resize(L.nl.num_pairs());
+  ops::AcousticPairsOf<2> fill{L.nl, L.p.V, ap};
+  interact_indexed(L.nl, fill, L.sampled());
+  int walls = 0;
+  for (std::size_t k = 0; k < L.nl.num_pairs(); ++k)
+    walls += L.p.kind[L.nl.j[k]] == Kind::Wall;
+  ASSERT_GT(walls, 0);
+  for (const bool corrected : {false, true}) {
+    std::vector<Vec2> F1(N), F2(N);
+    std::vector<double> d1(N), d2(N);
+    const auto* b = corrected ? &B : nullptr;
+    ops::FirstHalf<2> pairs{L.p, b, f_prior, &a_t, 0.01, 0.1, F1, d1, false, a_wall.data()};
+    interact(L.nl, pairs, L.sampled());
+    ops::FirstHalf<2> indexed{L.p, b, f_prior, &a_t, 0.01, 0.1, F2, d2, false, a_wall.data(), &ap};
+    interact_indexed(L.nl, indexed, L.sampled());
+    for (std::size_t i = 0; i < N; ++i)
+      if (L.fluid(i)) {
+        ASSERT_NE(F1[i].norm(), 0.0) << i;
+        ASSERT_EQ(F1[i], F2[i]) << i;
+        ASSERT_EQ(d1[i], d2[i]) << i;
+      }
+  }
+  // The 2nd half: every limiter policy (with_beta, as the scheme) against AnyBeta from the pairs.
+  for (const auto [d, sign] : {std::pair{Dissipation::Limited, LimiterSign::Expansion},
+                               std::pair{Dissipation::Limited, LimiterSign::Compression},
+                               std::pair{Dissipation::Full, LimiterSign::Expansion},
+                               std::pair{Dissipation::None, LimiterSign::Expansion}}) {
+    Options o;
+    o.dissipation = d, o.sign = sign;
+    std::vector<Vec2> G1(N), G2(N);
+    std::vector<double> d1(N, 0.5), d2(N, 0.5);
+    ops::SecondHalf<2> pairs{L.p, v_wall.data(), o, 10.0, d1, G1};
+    interact(L.nl, pairs, L.sampled());
+    with_beta(o, [&](auto beta) {
+      ops::SecondHalf<2, decltype(beta)> indexed{L.p, v_wall.data(), o,   10.0, d2,
+                                                 G2,  false,         &ap, beta};
+      interact_indexed(L.nl, indexed, L.sampled());
+    });
+    for (std::size_t i = 0; i < N; ++i)
+      if (L.fluid(i)) {
+        ASSERT_NE(d1[i], 0.5) << i;
+        ASSERT_EQ(d1[i], d2[i]) << i;
+        ASSERT_EQ(G1[i], G2[i]) << i;
+        if (d != Dissipation::None)
+          ASSERT_NE(G1[i].norm(), 0.0) << i;
+      }
+  }
+  // Without wall particles the scheme runs the Walls = false policies: the same bits again.
+  for (std::size_t i = 0; i < N; ++i)
+    if (L.p.kind[i] == Kind::Wall)
+      L.p.kind[i] = Kind::Buffer;
+  Options o;
+  std::vector<Vec2> F1(N), F2(N), G1(N), G2(N);
+  std::vector<double> d1(N), d2(N);
+  ops::FirstHalf<2> pairs{L.p, nullptr, f_prior, &a_t, 0.01, 0.1, F1, d1};
+  interact(L.nl, pairs, L.sampled());
+  ops::FirstHalf<2, false> indexed{L.p, nullptr, f_prior, &a_t,    0.01, 0.1,
+                                   F2,  d2,      false,   nullptr, &ap};
+  interact_indexed(L.nl, indexed, L.sampled());
+  ops::SecondHalf<2> s_pairs{L.p, nullptr, o, 10.0, d1, G1};
+  interact(L.nl, s_pairs, L.sampled());
+  ops::SecondHalf<2, LimitedBeta, false> s_indexed{L.p, nullptr, o, 10.0, d2, G2, false, &ap};
+  interact_indexed(L.nl, s_indexed, L.sampled());
+  for (std::size_t i = 0; i < N; ++i)
+    if (L.fluid(i)) {
+      ASSERT_EQ(F1[i], F2[i]) << i;
+      ASSERT_EQ(d1[i], d2[i]) << i;
+      ASSERT_EQ(G1[i], G2[i]) << i;
+    }
 }
 
 namespace {

@@ -40,6 +40,9 @@
 //       beta_ij = min(3 max(s u_ij, 0) / c0, 1)   limited; s = +1 "expansion" (SPHinXsys master),
 //                                                  s = -1 "compression" (Zhang 2017) [notes 2b]
 //       beta_ij = 1 (full, no limiter) or 0 (none: central 2nd half, SPHinXsys' Taylor-Green)
+//     (policy types LimitedBeta, FullBeta, NoBeta, chosen outside the pair loops). The sub-steps'
+//     pair loops read e_ij = r_ij / r and V_j dW_ij from ops::AcousticPairs, computed once at the
+//     start of the stage (V_j and the pair geometry are frozen over the step).
 //     vt_i = v_i, or v_i + dt/2 a~_i for tvf = original (Adami's transport velocity at the half
 //     step, so each sub-step moves the particle by an extra dt^2/2 a~_i), whose momentum equation
 //     also gets the extra stress A = rho v (x) (vt - v):  F^A_i = -V_i sum_j V_j (A_i + A_j) .
@@ -105,6 +108,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace sph::wcsph_tvf {
@@ -184,20 +188,57 @@ double lattice_number_density(const K& kernel, double dx) {
   return s;
 }
 
-// Dissipation limiter of the momentum Riemann jump (eq. 6): beta_ij for u_ij = (v_i - v_j).e_ij.
-inline double dissipation_beta(const Options& o, double u) {
+// Dissipation limiter of the momentum Riemann jump (eq. 6): beta_ij for u_ij = (v_i - v_j).e_ij,
+// one policy type per Options::dissipation, made once from the options, so that the 2nd half's
+// pair loop has neither an option branch nor a division:
+//   limited  beta = min((eta / c0) max(s u, 0), 1),  s = +1 "expansion", -1 "compression"
+//   full     beta = 1
+//   none     beta = 0 (on = false: the pair loop leaves the term out; adding the zero term would
+//            leave the sum's bits unchanged)
+struct LimitedBeta {
+  static constexpr bool on = true;
+  double eta_c0, s;
+  explicit LimitedBeta(const Options& o)
+      : eta_c0(o.limiter_eta / o.c0), s(o.sign == LimiterSign::Expansion ? 1.0 : -1.0) {}
+  double operator()(double u) const { return std::min(eta_c0 * std::max(s * u, 0.0), 1.0); }
+};
+struct FullBeta {
+  static constexpr bool on = true;
+  explicit FullBeta(const Options&) {}
+  double operator()(double) const { return 1.0; }
+};
+struct NoBeta {
+  static constexpr bool on = false;
+  explicit NoBeta(const Options&) {}
+  double operator()(double) const { return 0.0; }
+};
+
+// Calls f(beta) with the policy of o.dissipation (outside the pair loops).
+template <class F>
+void with_beta(const Options& o, F&& f) {
   switch (o.dissipation) {
   case Dissipation::None:
-    return 0.0;
+    return f(NoBeta(o));
   case Dissipation::Full:
-    return 1.0;
+    return f(FullBeta(o));
   case Dissipation::Limited:
-  default: {
-    const double s = o.sign == LimiterSign::Expansion ? u : -u;
-    return std::min(o.limiter_eta * std::max(s, 0.0) / o.c0, 1.0);
-  }
+  default:
+    return f(LimitedBeta(o));
   }
 }
+
+// beta_ij of any setting, dispatched per call (the walls' reactions, single pairs).
+inline double dissipation_beta(const Options& o, double u) {
+  double b = 0.0;
+  with_beta(o, [&](auto beta) { b = beta(u); });
+  return b;
+}
+struct AnyBeta {
+  static constexpr bool on = true;
+  const Options& o;
+  explicit AnyBeta(const Options& opt) : o(opt) {}
+  double operator()(double u) const { return dissipation_beta(o, u); }
+};
 
 // Limiter of the transport-velocity correction, eq. (15): psi = min(kappa h^2 |g|^2, 1).
 inline double tvf_limiter(double kappa, double h, double g2) {
@@ -334,10 +375,41 @@ struct BackgroundPressure {
   void finish(std::size_t i, const Acc& a) { a_tilde[i] = (pb / p.m[i]) * a.a; }
 };
 
+// The pair coefficients of the acoustic sub-steps, frozen over the advection step like V_j and the
+// pair geometry: e_ij = r_ij / r and V_j dW_ij (V_j grad_i W_ij = V_j dW_ij e_ij), indexed as the
+// pairs of the neighbour list nl. Computed once per step after the density summation
+// (AcousticPairsOf), so that FirstHalf and SecondHalf, two pair loops per sub-step, neither divide
+// by r nor gather V_j: the same values as they compute from a Pair, so the same bits.
+template <int D>
+struct AcousticPairs {
+  const NeighborList<D>* nl = nullptr; // the pairs (distances r for the wall pressure)
+  bool walls = true;                   // some particle is a wall (the ops' Walls policy)
+  std::vector<Vec<D>> e;
+  std::vector<double> VdW;
+};
+
+// Fills AcousticPairs for the rows it is run on (interact_indexed; out sized to nl's pairs).
+template <int D>
+struct AcousticPairsOf {
+  const NeighborList<D>& nl;
+  const std::vector<double>& V;
+  AcousticPairs<D>& out;
+
+  struct Acc {};
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t, std::uint32_t j, std::uint32_t k, Acc&) const {
+    out.e[k] = nl.r_ij[k] / nl.r[k];
+    out.VdW[k] = V[j] * nl.dW[k];
+  }
+  void finish(std::size_t, const Acc&) {}
+};
+
 // 1st half (Integration1stHalf, Riemann): pressure force F^p (mean part of P*), the density
 // dissipation (jump part of U*), and for tvf = original Adami's extra stress with
-// dv_i = vt_i - v_i = dt/2 a~_i.
-template <int D>
+// dv_i = vt_i - v_i = dt/2 a~_i. Pairs from the neighbour list (interact), or by index with the
+// step's AcousticPairs (interact_indexed, the scheme's sub-steps). Walls = false: no partner is a
+// wall particle (the scheme's choice when the particles hold none; no kind test per pair).
+template <int D, bool Walls = true>
 struct FirstHalf {
   const Particles<D>& p;
   const std::vector<Mat<D>>* B;       // nullptr: identity
@@ -345,10 +417,11 @@ struct FirstHalf {
   const std::vector<Vec<D>>* a_tilde; // nullptr unless tvf = original
   double half_dt;                     // dt / 2 (transport-velocity increment of a~)
   double inv_rho0c0;
-  std::vector<Vec<D>>& force;     // out: F^p (+ F^A)
-  std::vector<double>& drho;      // out: drho/dt (assigned)
-  bool walls_only = false;        // the wall partners' share only (force_on_walls)
-  const Vec<D>* a_wall = nullptr; // wall accelerations (moving bodies), nullptr: at rest
+  std::vector<Vec<D>>& force;           // out: F^p (+ F^A)
+  std::vector<double>& drho;            // out: drho/dt (assigned)
+  bool walls_only = false;              // the wall partners' share only (force_on_walls)
+  const Vec<D>* a_wall = nullptr;       // wall accelerations (moving bodies), nullptr: at rest
+  const AcousticPairs<D>* ap = nullptr; // the indexed pairs' coefficients
 
   struct Acc {
     Vec<D> f = Vec<D>::Zero();
@@ -356,23 +429,33 @@ struct FirstHalf {
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
-    const std::uint32_t j = q.j;
-    if (walls_only && p.kind[j] != Kind::Wall)
-      return;
-    const Vec<D> e = q.r_ij / q.r;
-    const double Vj = p.V[j];
+    term(
+        i, q.j, q.r_ij / q.r, p.V[q.j] * q.dW, [&] { return q.r; }, a);
+  }
+  void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
+    term(
+        i, j, ap->e[k], ap->VdW[k], [&] { return ap->nl->r[k]; }, a);
+  }
+  // Pair (i, j): e = e_ij, VdW = V_j dW_ij, r() = |r_ij| (read only for a wall partner).
+  template <class R>
+  void term(std::size_t i, std::uint32_t j, const Vec<D>& e, double VdW, R&& r, Acc& a) const {
+    bool wall = false;
+    if constexpr (Walls) {
+      wall = p.kind[j] == Kind::Wall;
+      if (walls_only && !wall)
+        return;
+    }
     double pj = p.p[j];
-    const bool wall = p.kind[j] == Kind::Wall;
     if (wall)
-      pj = wall_pressure(p, f_prior, a_wall, i, j, q.r, e);
-    const Vec<D> gw = (Vj * q.dW) * e; // V_j grad_i W_ij
+      pj = wall_pressure(p, f_prior, a_wall, i, j, r(), e);
+    const Vec<D> gw = VdW * e; // V_j grad_i W_ij
     if (!B)
       a.f -= (p.p[i] + pj) * gw;
     else if (wall)
       a.f -= (p.p[i] + pj) * ((*B)[i] * gw);
     else
       a.f -= (p.p[i] * (*B)[j] + pj * (*B)[i]) * gw;
-    a.d += (p.p[i] - pj) * inv_rho0c0 * Vj * q.dW;
+    a.d += (p.p[i] - pj) * VdW;
     if (a_tilde && !wall) {
       // (A_i + A_j) . grad W with A = rho v (x) dv: rho_i v_i (dv_i . gW) + rho_j v_j (dv_j . gW)
       const Vec<D> dvi = half_dt * (*a_tilde)[i], dvj = half_dt * (*a_tilde)[j];
@@ -381,21 +464,24 @@ struct FirstHalf {
   }
   void finish(std::size_t i, const Acc& a) {
     force[i] = p.V[i] * a.f;
-    drho[i] = p.rho[i] * a.d;
+    drho[i] = (p.rho[i] * inv_rho0c0) * a.d;
   }
 };
 
 // 2nd half (Integration2ndHalf): continuity with u_ij = (v_i - v_j) . e_ij and the momentum
-// dissipation of the Riemann solver with the limiter (eq. 6).
-template <int D>
+// dissipation of the Riemann solver with the limiter (eq. 6) of policy Beta (the scheme's: the
+// options' own, with_beta). Pairs and Walls as FirstHalf's.
+template <int D, class Beta = AnyBeta, bool Walls = true>
 struct SecondHalf {
   const Particles<D>& p;
   const Vec<D>* v_wall;
   const Options& o;
   double rho0c0;
-  std::vector<double>& drho;   // in: 1st-half dissipation; out: += continuity
-  std::vector<Vec<D>>& f_diss; // out: dissipation force (assigned)
-  bool walls_only = false;     // the wall partners' share only (force_on_walls)
+  std::vector<double>& drho;            // in: 1st-half dissipation; out: += continuity
+  std::vector<Vec<D>>& f_diss;          // out: dissipation force (assigned)
+  bool walls_only = false;              // the wall partners' share only (force_on_walls)
+  const AcousticPairs<D>* ap = nullptr; // the indexed pairs' coefficients
+  Beta beta = Beta(o);                  // the limiter
 
   struct Acc {
     double d = 0.0;
@@ -403,16 +489,24 @@ struct SecondHalf {
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
-    if (walls_only && p.kind[q.j] != Kind::Wall)
-      return;
-    const Vec<D> e = q.r_ij / q.r;
-    const Vec<D> vj = partner_velocity(p, v_wall, i, q.j);
+    term(i, q.j, q.r_ij / q.r, p.V[q.j] * q.dW, a);
+  }
+  void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
+    term(i, j, ap->e[k], ap->VdW[k], a);
+  }
+  // Pair (i, j): e = e_ij, VdW = V_j dW_ij.
+  void term(std::size_t i, std::uint32_t j, const Vec<D>& e, double VdW, Acc& a) const {
+    if constexpr (Walls)
+      if (walls_only && p.kind[j] != Kind::Wall)
+        return;
+    const Vec<D> vj = Walls ? partner_velocity(p, v_wall, i, j) : p.v[j];
     const double u = (p.v[i] - vj).dot(e);
-    const double VdW = p.V[q.j] * q.dW;
     a.d += u * VdW;
     // Added also when beta = 0 (a zero term leaves the sum's bits unchanged): the sign of u_ij
-    // is random pair to pair, and a branch on it mispredicts about every other pair.
-    a.f += (rho0c0 * dissipation_beta(o, u) * u * VdW) * e;
+    // is random pair to pair, and a branch on it mispredicts about every other pair. Left out
+    // only without dissipation (NoBeta).
+    if constexpr (Beta::on)
+      a.f += (rho0c0 * beta(u) * u * VdW) * e;
   }
   void finish(std::size_t i, const Acc& a) {
     drho[i] += p.rho[i] * a.d;
@@ -745,6 +839,7 @@ private:
   double sigma0_ = 1.0;
   std::unique_ptr<VerletList<D>> vl_;
   NeighborList<D> nl_;
+  ops::AcousticPairs<D> ap_; // the sub-steps' pair coefficients (acoustic_pairs)
   std::vector<double> sumW_, traceB_;
   std::vector<Mat<D>> B_;
   std::vector<Vec<D>> f_prior_, force_, g_, shift_, a_tilde_;
@@ -887,6 +982,26 @@ private:
     info.tv_max = tv / dt_tv_;
   }
 
+  // e_ij and V_j dW_ij of the fluid rows, for the sub-steps (V_j is frozen until the next density
+  // summation, the pairs until the next neighbour search).
+  void acoustic_pairs() {
+    ap_.nl = &nl_;
+    ap_.walls = std::find(p_.kind.begin(), p_.kind.end(), Kind::Wall) != p_.kind.end();
+    ap_.e.resize(nl_.num_pairs()), ap_.VdW.resize(nl_.num_pairs());
+    ops::AcousticPairsOf<D> op{nl_, p_.V, ap_};
+    interact_indexed(nl_, op, fluid_only());
+  }
+
+  // Calls f(std::true_type) when some particle is a wall, else f(std::false_type) (the Walls
+  // policy of FirstHalf and SecondHalf; outside the pair loops).
+  template <class F>
+  void with_walls(F&& f) const {
+    if (ap_.walls)
+      f(std::true_type{});
+    else
+      f(std::false_type{});
+  }
+
   void acoustic(double Dt, StepInfo& info) {
     const std::size_t N = p_.size();
     const bool original = o_.tvf == Tvf::Original;
@@ -895,6 +1010,7 @@ private:
     const double rho0c0 = o_.rho0 * o_.c0;
     if (coupled())
       std::fill(w_impulse_.begin(), w_impulse_.end(), Vec<D>::Zero());
+    acoustic_pairs();
     double tau = 0.0;
     while (tau < Dt * (1.0 - 1e-12)) {
       const double dt = std::min(acoustic_dt(), Dt - tau);
@@ -919,10 +1035,13 @@ private:
       if (hooks_.buffer_pressure)
         hooks_.buffer_pressure(p_, nl_);
       {
-        ops::FirstHalf<D> op{p_,    B(),          f_prior_, original ? &a_tilde_ : nullptr,
-                             half,  1.0 / rho0c0, force_,   drho,
-                             false, a_wall()};
-        interact(nl_, op, fluid_only());
+        with_walls([&](auto walls) {
+          ops::FirstHalf<D, decltype(walls)::value> op{
+              p_,    B(),          f_prior_, original ? &a_tilde_ : nullptr,
+              half,  1.0 / rho0c0, force_,   drho,
+              false, a_wall(),     &ap_};
+          interact_indexed(nl_, op, fluid_only());
+        });
       }
       if (coupled()) { // the impulse the fluid's kick takes from each wall, reversed
         ops::WallPressureReaction<D> op{p_, B(), f_prior_, a_wall(), w_p_};
@@ -954,8 +1073,13 @@ private:
         p_.r[i] += half * vt;
       }
       {
-        ops::SecondHalf<D> op{p_, v_wall(), o_, rho0c0, drho, fd};
-        interact(nl_, op, fluid_only());
+        with_beta(o_, [&](auto beta) {
+          with_walls([&](auto walls) {
+            ops::SecondHalf<D, decltype(beta), decltype(walls)::value> op{
+                p_, v_wall(), o_, rho0c0, drho, fd, false, &ap_, beta};
+            interact_indexed(nl_, op, fluid_only());
+          });
+        });
       }
       if (coupled()) { // the walls' dissipation reaction, for the next kick
         ops::WallDissipationReaction<D> op{p_, v_wall(), o_, rho0c0, fd};
