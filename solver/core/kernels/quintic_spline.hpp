@@ -5,7 +5,6 @@
 // Registry key "quintic_spline".
 #pragma once
 
-#include <cmath>
 #include <numbers>
 
 namespace sph {
@@ -37,11 +36,7 @@ struct QuinticSpline {
   }
 
 private:
-  // max(t, 0) without a branch: (t + |t|) / 2 is t for t > 0 (2t and its half are exact) and
-  // +0 otherwise, the value of t > 0 ? t : 0 to the bit. Across a pair list q spreads over
-  // [0, 3), so a branch on each bracket's sign (what the compiler makes of the conditional, or of
-  // std::max) would be mispredicted often.
-  static double pos(double t) { return 0.5 * (t + std::abs(t)); }
+  static double pos(double t) { return t > 0.0 ? t : 0.0; }
   static double p3(double t) {
     t = pos(t);
     return t * t * t;
