@@ -58,10 +58,16 @@ public:
 
   // Rebuilds from a cell list built on positions x (same order): its candidates within the cells'
   // support, then their geometry. Reuses capacity: after the first steps it does not allocate.
+  // The candidate rows' scan keeps exactly the pairs with |r_ij|^2 < support^2 (r_ij the same
+  // minimum image, to the bit), so their geometry is filled directly, without a second test.
   template <class Kernel>
   void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const Kernel& kernel) {
     rows_.build(cells, x, cells.support());
-    build_constant_h(rows_, MinimumImage<D>(cells.domain()), x, kernel, cells.support());
+    offset = rows_.offset;
+    fill_pairs(rows_.j.data(), rows_.offset, x, MinimumImage<D>(cells.domain()),
+               [&](std::size_t, std::uint32_t, double rr, double& w, double& dw) {
+                 w = kernel.W(rr), dw = kernel.dW(rr);
+               });
   }
 
   // Variable smoothing length (h[i] per particle): the pair's kernel has h_ij = (h_i + h_j) / 2,
@@ -138,13 +144,23 @@ private:
     offset[0] = 0;
     for (std::size_t i = 0; i < N; ++i)
       offset[i + 1] = offset[i] + count_[i];
+    fill_pairs(kept_.data(), rows.offset, x, image, eval);
+  }
+
+  // Pass 2 of build_pairs, given the offsets: the pairs of particle i are the first
+  // offset[i+1] - offset[i] entries of kept + start[i], filled with j, r_ij = image(x_i - x_j),
+  // r and eval(i, j, r, W, dW).
+  template <class Eval>
+  void fill_pairs(const std::uint32_t* kept, const std::vector<std::uint32_t>& start,
+                  const std::vector<Vec<D>>& x, const MinimumImage<D>& image, Eval&& eval) {
+    const std::size_t N = x.size();
     const std::size_t P = offset[N];
     j.resize(P), r_ij.resize(P), r.resize(P), W.resize(P), dW.resize(P);
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < N; ++i) {
       const Vec<D> xi = x[i];
-      const std::uint32_t* in = kept_.data() + rows.offset[i];
-      const std::uint32_t k0 = offset[i], n = count_[i];
+      const std::uint32_t* in = kept + start[i];
+      const std::uint32_t k0 = offset[i], n = offset[i + 1] - offset[i];
       for (std::uint32_t c = 0; c < n; ++c) {
         const std::uint32_t jj = in[c], k = k0 + c;
         const Vec<D> rij = image(xi - x[jj]);

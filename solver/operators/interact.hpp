@@ -27,6 +27,16 @@ struct AllParticles {
   bool operator()(std::size_t) const { return true; }
 };
 
+// init, the pairs and finish of particle i alone (the body of interact's particle loop; also for
+// a caller that runs an operator on a row right after producing it, while it is in cache).
+template <int D, class Op>
+void interact_row(const NeighborList<D>& nl, Op& op, std::size_t i) {
+  auto acc = op.init(i);
+  for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k)
+    op.pair(i, nl.pair(k), acc);
+  op.finish(i, acc);
+}
+
 template <int D, class Op, class Select = AllParticles>
 void interact(const NeighborList<D>& nl, Op& op, Select select = {}) {
   const std::size_t N = nl.num_particles();
@@ -34,10 +44,7 @@ void interact(const NeighborList<D>& nl, Op& op, Select select = {}) {
   for (std::size_t i = 0; i < N; ++i) {
     if (!select(i))
       continue;
-    auto acc = op.init(i);
-    for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k)
-      op.pair(i, nl.pair(k), acc);
-    op.finish(i, acc);
+    interact_row(nl, op, i);
   }
 }
 

@@ -177,6 +177,29 @@ TEST(AlsphOperators, LaplacianOfQuadraticOnLattice) {
   }
 }
 
+// Algorithm 1 recomputes V_i = 1 / sum_j W_ij on every pair refresh (row by row, right after the
+// row is refreshed): after a step, V is that of the final pair geometry, not that of r^n.
+TEST(AlsphOperators, Algorithm1VolumesFollowTheRefreshedPairs) {
+  Patch t(16);
+  alsph::Settings s;
+  s.algorithm = 1, s.shifting = false, s.max_iterations = 2, s.dt = 1e-2;
+  alsph::Scheme<2, QuinticSpline<2>> sc(t.kernel, s);
+  for (std::size_t i = 0; i < t.p.size(); ++i) // a rotation with strain: pair distances change
+    t.p.v[i] = Vec<2>(0.3 * t.p.r[i][1], -0.2 * t.p.r[i][0]);
+  const MirrorGhosts<2> ghosts;
+  const std::vector<Vec<2>> normal(t.p.size(), Vec<2>::Zero());
+  sc.step(t.p, t.nl, ghosts, normal, [](auto&, auto&) {});
+  double moved = 0.0;
+  for (std::size_t i = 0; i < t.p.size(); ++i) {
+    double w = t.kernel.W(0.0);
+    for (std::uint32_t k = t.nl.offset[i]; k < t.nl.offset[i + 1]; ++k)
+      w += t.nl.W[k];
+    ASSERT_NEAR(t.p.V[i] * w, 1.0, 1e-12) << "particle " << i;
+    moved = std::max(moved, std::abs(t.p.r[i][0] - sc.r_n[i][0]));
+  }
+  EXPECT_GT(moved, 0.01 * t.dx); // the test is not vacuous
+}
+
 // Algorithm 1's refresh of the cached pairs equals the kernel values of a fresh search on the moved
 // positions for every pair that stays in the list.
 TEST(AlsphOperators, PairRefreshMatchesFreshSearch) {

@@ -97,23 +97,33 @@ namespace ops {
 // configuration (once per step for algorithm 2, after every pair refresh for algorithm 1) and read
 // by every inner-iteration loop: gw_k = Gamma_i grad_i W_ij and the Laplacian coefficient
 // lap_k = 2 V_j (r_ij . Gamma_i grad_i W_ij) / (r_ij^2 + eta^2), for pair k = (i, j) of the list.
+// Gamma_i needs only the row of i, so a caller may compute it and the row's coefficients in one
+// pass over the rows (Scheme::gamma_and_coefficients): the row is still in cache.
 template <int D>
 struct PairCoefficients {
   std::vector<Vec<D>> gw;
   std::vector<double> lap;
 
+  void resize(const NeighborList<D>& nl) { gw.resize(nl.num_pairs()), lap.resize(nl.num_pairs()); }
+
+  // The coefficients of the pairs of particle i (after resize()).
+  void row(const NeighborList<D>& nl, const std::vector<double>& V, const Mat<D>& gamma_i,
+           double eta2, std::size_t i) {
+    for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+      const Pair<D> q = nl.pair(k);
+      const Vec<D> g = gamma_i * q.grad();
+      gw[k] = g;
+      lap[k] = 2.0 * V[q.j] * q.r_ij.dot(g) / (q.r * q.r + eta2);
+    }
+  }
+
   void compute(const NeighborList<D>& nl, const std::vector<double>& V,
                const std::vector<Mat<D>>& gamma, double eta2) {
     const std::size_t N = nl.num_particles();
-    gw.resize(nl.num_pairs()), lap.resize(nl.num_pairs());
+    resize(nl);
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::size_t i = 0; i < N; ++i)
-      for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-        const Pair<D> q = nl.pair(k);
-        const Vec<D> g = gamma[i] * q.grad();
-        gw[k] = g;
-        lap[k] = 2.0 * V[q.j] * q.r_ij.dot(g) / (q.r * q.r + eta2);
-      }
+      row(nl, V, gamma[i], eta2, i);
   }
 };
 
@@ -363,9 +373,11 @@ public:
     int m = 0;
     for (;; ++m) {
       if (s_.algorithm == 1 && m > 0) {
+        // The pair refresh with V_i of each refreshed row, then Gamma and the coefficients.
         const double ta = cpu_seconds();
-        refresh_pairs(p, nl);
-        geometry(p, nl, &ghosts);
+        SummationDensity<D, Kernel> sd{p, kernel_};
+        refresh_pairs(p, nl, [&](std::size_t i) { interact_row(nl, sd, i); });
+        gamma_and_coefficients(p, nl, &ghosts);
         timers_.refresh += cpu_seconds() - ta;
       }
       // <grad u>, <div u>, <lap u> on the current iterate (eq. 13 check and input of eq. 8).
@@ -419,11 +431,16 @@ public:
     timers_.particle_steps += static_cast<double>(N);
 
     if (s_.shifting) {
-      // eq. (18) on the final positions (algorithm 2 has its pairs still on r^n), eq. (19).
-      if (s_.algorithm != 1 || m == 0)
-        refresh_pairs(p, nl);
+      // eq. (18) on the final positions (algorithm 2 has its pairs still on r^n: each row is
+      // refreshed and, for a fluid particle, read while in cache), eq. (19).
       ops::Displacement<D> ds{p.v, dt, dr};
-      interact(nl, ds, is_fluid);
+      if (s_.algorithm != 1 || m == 0)
+        refresh_pairs(p, nl, [&](std::size_t i) {
+          if (is_fluid(i))
+            interact_row(nl, ds, i);
+        });
+      else
+        interact(nl, ds, is_fluid);
 #pragma omp parallel for schedule(static)
       for (std::size_t i = 0; i < N; ++i) {
         if (kind[i] != Kind::Fluid)
@@ -437,9 +454,15 @@ public:
     return st;
   }
 
+  struct NoRowWork {
+    void operator()(std::size_t) const {}
+  };
   // Recomputes r_ij, r, W, dW of the cached pairs from the particles' displacement since the last
-  // refresh (or since r^n); no new search.
-  void refresh_pairs(const Particles<D>& p, NeighborList<D>& nl) {
+  // refresh (or since r^n); no new search. row_done(i) is called on each row right after it is
+  // refreshed (a per-row operator reading the row while it is in cache; it must read only that
+  // row's pairs, the other rows may not be refreshed yet).
+  template <class RowDone = NoRowWork>
+  void refresh_pairs(const Particles<D>& p, NeighborList<D>& nl, RowDone&& row_done = {}) {
     const std::size_t N = nl.num_particles();
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::size_t i = 0; i < N; ++i) {
@@ -450,6 +473,7 @@ public:
         const double r = std::max(rij.norm(), 1e-12 * kernel_.h);
         nl.r_ij[k] = rij, nl.r[k] = r, nl.W[k] = kernel_.W(r), nl.dW[k] = kernel_.dW(r);
       }
+      row_done(i);
     }
     for (std::size_t i = 0; i < N; ++i)
       r_prev[i] = p.r[i];
@@ -462,11 +486,23 @@ public:
                 const MirrorGhosts<D>* ghosts = nullptr) {
     SummationDensity<D, Kernel> sd{p, kernel_};
     interact(nl, sd);
+    gamma_and_coefficients(p, nl, ghosts);
+  }
+
+  // With V of every particle: the ghosts' V from their sources, then row by row Gamma_i
+  // (CorrectionMatrix on the row of i) and the row's pair coefficients (ops::PairCoefficients).
+  void gamma_and_coefficients(Particles<D>& p, const NeighborList<D>& nl,
+                              const MirrorGhosts<D>* ghosts) {
     if (ghosts)
       ghosts->copy_scalar(p.V);
     CorrectionMatrix<D> cm{p.V, gamma, trace_b};
-    interact(nl, cm);
-    coef_.compute(nl, p.V, gamma, eta2_);
+    coef_.resize(nl);
+    const std::size_t N = nl.num_particles();
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < N; ++i) {
+      interact_row(nl, cm, i);
+      coef_.row(nl, p.V, gamma[i], eta2_, i);
+    }
   }
 
 private:
