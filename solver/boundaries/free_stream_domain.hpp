@@ -140,8 +140,8 @@ public:
     bool changed = disposer_.update(p);
     for (auto& e : emitters_)
       changed |= e.update(p, t_mid, next_id_) > 0;
-    if (levels_ && (levels_->update(p, next_id_) > 0 || changed))
-      changed = true; // update() also gave the emitted particles their h
+    if (levels_) // also gives the emitted particles their h
+      changed |= levels_->update(p, next_id_) > 0;
     return changed;
   }
 
