@@ -65,8 +65,6 @@ public:
   }
 
   double length() const { return c_.n[0] * c_.dx; }
-  // The emitter of the coarse rows below the band (the only one without a band).
-  const Emitter<D>& emitter() const { return emitters_.front(); }
   const refinement::TwoLevels<D>* levels() const { return levels_.get(); }
   const Disposer<D>& disposer() const { return disposer_; }
   const FreeStream<D>& free_stream() const { return *fs_; }
@@ -86,12 +84,8 @@ public:
     for_each_lattice_point<D>(lo, c_.n, c_.dx, [&](const Vec<D>& x, const std::array<int, D>&) {
       if (!(in_band(x[1]) > 0.0))
         return add(x, m);
-      for (int s = 0; s < (1 << D); ++s) { // the cell's 2^D fine points
-        Vec<D> y = x;
-        for (int a = 0; a < D; ++a)
-          y[a] += (s >> a & 1 ? 0.25 : -0.25) * c_.dx;
-        add(y, m / (1 << D));
-      }
+      for (int s = 0; s < (1 << D); ++s) // the cell's 2^D fine points
+        add(refinement::fine_point<D>(x, c_.dx, s), m / (1 << D));
     });
     next_id_ = static_cast<std::int64_t>(p.size());
     for (const auto& e : emitters_)

@@ -40,6 +40,17 @@
 
 namespace sph::refinement {
 
+// Fine point s (s in [0, 2^D): bit a set is +, clear is -, along axis a) of the coarse lattice
+// cell of spacing dx_c centred at x: x + (dx_c / 4) (+-1, ..., +-1), the fine lattice of that
+// cell. Used by the split and by the cases that fill a fine region on a coarse lattice.
+template <int D>
+Vec<D> fine_point(const Vec<D>& x, double dx_c, int s) {
+  Vec<D> y = x;
+  for (int a = 0; a < D; ++a)
+    y[a] += (s >> a & 1 ? 0.25 : -0.25) * dx_c;
+  return y;
+}
+
 template <int D>
 class TwoLevels {
 public:
@@ -59,8 +70,6 @@ public:
     m_f_ = c_.rho0 * std::pow(c_.dx_fine, D);
   }
   int h_field() const { return h_; }
-  double fine_mass() const { return m_f_; }
-  double coarse_mass() const { return m_f_ * (1 << D); }
   bool is_coarse(double m) const { return m > 1.5 * m_f_; }
 
   // Splits, merges and sets h. next_id numbers new particles. Returns the number of particles
@@ -90,6 +99,16 @@ private:
   int h_ = -1;
   double m_f_ = 0.0;
   std::size_t splits_ = 0, merges_ = 0;
+  struct Entry { // a merge candidate: its grid cell, squared distance to the cell's centre, index
+    std::array<std::int64_t, D> cell;
+    double d2;
+    std::uint32_t i;
+    bool operator<(const Entry& o) const {
+      return std::tie(cell, d2, i) < std::tie(o.cell, o.d2, o.i);
+    }
+  };
+  std::vector<Entry> bins_; // merge()'s scratch, kept so that the time loop does not allocate
+  std::vector<char> keep_;
 
   std::size_t split(Particles<D>& p, std::int64_t& next_id) const {
     const std::size_t n0 = p.size();
@@ -100,11 +119,8 @@ private:
       const Vec<D> r0 = p.r[i];
       p.m[i] /= (1 << D), p.V[i] /= (1 << D);
       for (int s = 0; s < (1 << D); ++s) {
-        Vec<D> x = r0;
-        for (int a = 0; a < D; ++a)
-          x[a] += (s >> a & 1 ? 0.5 : -0.5) * c_.dx_fine;
         const std::size_t k = s == 0 ? i : p.append_copy(i);
-        p.r[k] = x;
+        p.r[k] = fine_point<D>(r0, 2.0 * c_.dx_fine, s);
         if (s > 0)
           p.id[k] = next_id++;
       }
@@ -113,20 +129,13 @@ private:
     return n;
   }
 
-  std::size_t merge(Particles<D>& p) const {
+  std::size_t merge(Particles<D>& p) {
     constexpr int group = 1 << D;
     const double dx_c = 2.0 * c_.dx_fine;
     // The candidates binned on the cells of size dx_c of the global grid, sorted by cell and, in
     // a cell, by distance to its centre (then index: deterministic).
-    struct Entry {
-      std::array<std::int64_t, D> cell;
-      double d2;
-      std::uint32_t i;
-      bool operator<(const Entry& o) const {
-        return std::tie(cell, d2, i) < std::tie(o.cell, o.d2, o.i);
-      }
-    };
-    std::vector<Entry> bins;
+    auto& bins = bins_;
+    bins.clear();
     for (std::size_t i = 0; i < p.size(); ++i) {
       if (p.kind[i] != Kind::Fluid || is_coarse(p.m[i]) || !(c_.depth(p.r[i]) < -c_.margin))
         continue;
@@ -139,7 +148,8 @@ private:
       bins.push_back(e);
     }
     std::sort(bins.begin(), bins.end());
-    std::vector<char> keep(p.size(), 1);
+    auto& keep = keep_;
+    keep.assign(p.size(), 1);
     std::size_t merged = 0;
     for (std::size_t b = 0; b < bins.size();) {
       std::size_t e = b;

@@ -137,8 +137,8 @@ public:
               p.v[p.add(y, rho0 * d * d, rho0)] = V2(u_inf(0.0), 0.0);
           };
           if (band > 0.0 && std::abs(ij[1] + 0.5 - 0.5 * ny) < nband) // a coarse cell of the band
-            for (int a = 0; a < 4; ++a)
-              add(x + 0.25 * dxc * V2(a % 2 ? 1.0 : -1.0, a / 2 ? 1.0 : -1.0), dx);
+            for (int s = 0; s < 4; ++s)
+              add(refinement::fine_point<2>(x, dxc, s), dx);
           else
             add(x, dxc);
         });
