@@ -1,30 +1,9 @@
 #!/usr/bin/env bash
 # A B A B comparison of two runner binaries on the WCSPH-TVF Taylor-Green vortex (issue 21, part
 # 3): the same job (case taylor_green, scheme wcsph_tvf, n_side x n_side particles to t_end), one
-# thread, each run in a fresh database, alternated so that both see the same load. Prints, per
-# run, the process CPU time per particle and advection step (cpu_time_per_step_s / n_particles,
-# the job's own metrics) and the Verlet list builds where the binary reports them, then the median
-# ratio A / B (above 1: B is cheaper).
+# thread, alternated so that both see the same load (bench/one_ab.sh: CPU per particle and
+# advection step, the median ratio A / B; above 1: B is cheaper).
 #   bench/tvf_ab.sh OLD_RUNNER NEW_RUNNER [REPEATS] [N_SIDE] [T_END]
 set -euo pipefail
-A="$1" B="$2" REPEATS="${3:-3}" N_SIDE="${4:-100}" T_END="${5:-0.5}"
-TMP="$(mktemp -d)"
-trap 'rm -rf "$TMP"' EXIT
-export OMP_NUM_THREADS=1
-echo "binary,run,cpu_us_per_particle_step,advection_steps,neighbour_builds"
-for r in $(seq "$REPEATS"); do
-  for who in A B; do
-    bin="$A"; [ "$who" = B ] && bin="$B"
-    "$bin" one taylor_green --scheme wcsph_tvf "n_side=$N_SIDE" "t_end=$T_END" \
-      --db "$TMP/$who$r.sqlite" --threads-per-job 1 >"$TMP/$who$r.log" 2>&1
-    awk -v who="$who" -v r="$r" '
-      $1 == "cpu_time_per_step_s" { c = $2 } $1 == "n_particles" { n = $2 }
-      $1 == "advection_steps" { s = $2 } $1 == "neighbour_builds" { b = $2 }
-      END { printf "%s,%s,%.4g,%s,%s\n", who, r, 1e6 * c / n, s, b }' "$TMP/$who$r.log"
-  done
-done | tee "$TMP/all.csv"
-awk -F, '{ v[$1] = v[$1] " " $3 }
-  function med(s,   a, n, i, j, t) { n = split(s, a, " "); for (i = 1; i <= n; ++i) for (j = i + 1; j <= n; ++j) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
-                                   return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2 }
-  END { printf "CPU per particle-step: A %.4g us, B %.4g us (medians), A / B = %.3g\n",
-               med(v["A"]), med(v["B"]), med(v["A"]) / med(v["B"]) }' "$TMP/all.csv"
+exec "$(dirname "$0")/one_ab.sh" "$1" "$2" "${3:-3}" taylor_green --scheme wcsph_tvf \
+  "n_side=${4:-100}" "t_end=${5:-0.5}"

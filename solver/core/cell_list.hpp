@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -78,20 +79,21 @@ public:
 
   // The candidates of particle i (i itself included) as contiguous ranges of the particle order:
   // f(b, e, shift) for the particles [b, e) of one neighbour x-row of cells, shift the periodic
-  // image to add to r_i - r_j. 3 ranges in 2D, 9 in 3D, plus one wrapped cell per row on a
-  // periodic x axis.
+  // image to add to r_i - r_j. The cells within k of i's cell along every axis (k = 1: 3 ranges in
+  // 2D, 9 in 3D; k = 2: 5 and 25), plus one wrapped block of cells per row on a periodic x axis.
+  // A periodic axis must have at least 2k + 1 cells (max_reach()).
   template <class F>
-  void for_each_range(std::size_t i, F&& f) const {
+  void for_each_range(std::size_t i, F&& f, int k = 1) const {
     std::array<int, D> c;
     decode(cell_sorted_[i], c);
     // Loop over the neighbour rows (all offsets of axes 1..D-1), then the x-range of each row.
-    constexpr int rows = D == 2 ? 3 : 9;
+    const int w = 2 * k + 1, rows = D == 2 ? w : w * w;
     for (int row = 0; row < rows; ++row) {
       Vec<D> shift = Vec<D>::Zero();
       int off = 0, stride = n_[0];
       bool skip = false;
       for (int a = 1; a < D; ++a) {
-        const int d = (a == 1 ? row % 3 : row / 3) - 1;
+        const int d = (a == 1 ? row % w : row / w) - k;
         int ca = c[a] + d;
         if (ca < 0 || ca >= n_[a]) {
           if (!domain_.periodic[a]) {
@@ -106,25 +108,69 @@ public:
       }
       if (skip)
         continue;
-      // x-range: contiguous cells [x0, x1] plus, on a periodic x axis, one wrapped cell.
-      int x0 = c[0] - 1, x1 = c[0] + 1;
+      // x-range: contiguous cells [x0, x1] plus, on a periodic x axis, the wrapped block.
+      int x0 = c[0] - k, x1 = c[0] + k;
       if (x0 < 0) {
         if (domain_.periodic[0]) {
           shift[0] = len_[0];
-          f(start_[off + n_[0] - 1], start_[off + n_[0]], shift);
+          f(start_[off + n_[0] + x0], start_[off + n_[0]], shift);
         }
         x0 = 0;
       }
       if (x1 >= n_[0]) {
         if (domain_.periodic[0]) {
           shift[0] = -len_[0];
-          f(start_[off], start_[off + 1], shift);
+          f(start_[off], start_[off + x1 - n_[0] + 1], shift);
         }
         x1 = n_[0] - 1;
       }
       shift[0] = 0.0;
       f(start_[off + x0], start_[off + x1 + 1], shift);
     }
+  }
+
+  // The largest k of for_each_range the periodic axes allow (2k + 1 cells; unbounded: INT_MAX).
+  int max_reach() const {
+    int k = std::numeric_limits<int>::max();
+    for (int a = 0; a < D; ++a)
+      if (domain_.periodic[a])
+        k = std::min(k, static_cast<int>(std::floor((domain_.hi[a] - domain_.lo[a]) / support_) - 1) / 2);
+    return k;
+  }
+
+  // out[i] = the largest v[j] over the particles j in the cells within k of particle i's cell
+  // along every axis (the cells for_each_range(i, f, k) visits); v in the order of the last build.
+  // A max filter over the cells, one axis at a time: O(cells x (2k + 1) x D).
+  void neighbourhood_max(const std::vector<double>& v, int k, std::vector<double>& out) {
+    const std::size_t N = v.size(), total = num_cells();
+    cell_max_.assign(total, -std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < N; ++i)
+      cell_max_[cell_sorted_[i]] = std::max(cell_max_[cell_sorted_[i]], v[i]);
+    std::size_t stride = 1;
+    for (int a = 0; a < D; ++a) {
+      const int n = n_[a];
+      tmp_.resize(total);
+      for (std::size_t c = 0; c < total; ++c) {
+        const int ca = static_cast<int>((c / stride) % static_cast<std::size_t>(n));
+        const std::size_t base = c - static_cast<std::size_t>(ca) * stride;
+        double m = cell_max_[c];
+        for (int d = -k; d <= k; ++d) {
+          int cb = ca + d;
+          if (cb < 0 || cb >= n) {
+            if (!domain_.periodic[a])
+              continue;
+            cb = (cb + n) % n;
+          }
+          m = std::max(m, cell_max_[base + static_cast<std::size_t>(cb) * stride]);
+        }
+        tmp_[c] = m;
+      }
+      cell_max_.swap(tmp_);
+      stride *= static_cast<std::size_t>(n);
+    }
+    out.resize(N);
+    for (std::size_t i = 0; i < N; ++i)
+      out[i] = cell_max_[cell_sorted_[i]];
   }
 
   // Wraps the coordinates of periodic axes into [lo, hi) (build() does it first).
@@ -161,6 +207,7 @@ private:
   std::array<int, D> n_{};      // cells per axis
   Vec<D> lo_, cell_size_, len_; // grid origin, cell edge, periodic length
   std::vector<std::uint32_t> cell_, cell_sorted_, perm_, start_, count_;
+  std::vector<double> cell_max_, tmp_; // neighbourhood_max's buffers
 
   void index(const std::vector<Vec<D>>& r) {
     const std::size_t N = r.size();

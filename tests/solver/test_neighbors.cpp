@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <omp.h>
 #include <set>
@@ -319,7 +320,7 @@ TEST(VerletList, RestoredFromItsReferencePositionsGivesTheSameRows) {
   random_move(p, 0.3 * skin, rn);
   ASSERT_FALSE(vl.update(p)); // a checkpoint between builds
   VerletList<2> resumed(box, support, skin);
-  resumed.restore(vl.reference(), vl.builds());
+  resumed.restore(p, vl.reference(), vl.builds());
   EXPECT_EQ(resumed.rows().offset, vl.rows().offset);
   EXPECT_EQ(resumed.rows().j, vl.rows().j);
   NeighborList<2> a, b;
@@ -338,5 +339,101 @@ TEST(VerletList, RestoredFromItsReferencePositionsGivesTheSameRows) {
   std::vector<Vec2> shuffled = vl.reference();
   std::reverse(shuffled.begin(), shuffled.end());
   VerletList<2> wrong(box, support, skin);
-  EXPECT_THROW(wrong.restore(shuffled, 1), std::logic_error);
+  EXPECT_THROW(wrong.restore(p, shuffled, 1), std::logic_error);
+}
+
+namespace {
+
+// Two resolution levels (boundaries/refinement.hpp): h = h_f in the left half of the box and in
+// every 7th particle of the right half, 2 h_f elsewhere. After every update() of the variable-h
+// Verlet list, moving the particles 0.3 skin per step, the pairs are exactly the brute-force pairs
+// within s0 (h_i + h_j) / 2 (minimum image), each once; and the fine particles far from coarse
+// ones have the candidates of the fine cutoff: at most half of what the one list sized for the
+// coarse support gives them.
+template <int D>
+void verlet_two_levels(const Domain<D>& box, std::size_t n, double nbrs, std::uint64_t seed) {
+  Particles<D> p = random_particles<D>(n, box, seed);
+  const int hf = p.add_scalar("h");
+  const double ball = D == 2 ? M_PI : 4.0 * M_PI / 3.0;
+  const double volume = (box.hi - box.lo).prod();
+  const double s_f = std::pow(nbrs * volume / (n * ball), 1.0 / D), h_f = s_f / 2;
+  const double skin = 0.25 * s_f;
+  const double mid = 0.5 * (box.lo[0] + box.hi[0]);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    p.scalar(hf)[i] = p.r[i][0] < mid || i % 7 == 0 ? h_f : 2 * h_f;
+  WendlandC2<D> kernel(h_f);
+  const double s0 = kernel.support() / h_f;
+  VerletList<D> vl(box, s0, h_f, 2 * h_f, skin, hf);
+  NeighborList<D> nl;
+  UniformRandom rn(seed + 1);
+  for (int s = 0; s < 8; ++s) {
+    if (s > 0)
+      random_move(p, 0.3 * skin, rn);
+    vl.update(p);
+    const auto& h = p.scalar(hf);
+    nl.build(vl, p.r, kernel, h);
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      std::set<std::int64_t> brute, found;
+      for (std::size_t j = 0; j < p.size(); ++j) {
+        const double c = s0 * 0.5 * (h[i] + h[j]);
+        if (j != i && min_image<D>(p.r[i] - p.r[j], box).squaredNorm() < c * c)
+          brute.insert(p.id[j]);
+      }
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        EXPECT_TRUE(found.insert(p.id[nl.j[k]]).second) << "duplicate neighbour";
+        EXPECT_NEAR(nl.r[k], min_image<D>(p.r[i] - p.r[nl.j[k]], box).norm(), 1e-12);
+      }
+      ASSERT_EQ(brute, found) << "step " << s << ", particle " << i << ", h " << h[i];
+      total += found.size();
+    }
+    EXPECT_GT(total, p.size());
+  }
+  // Candidates of the fine particles more than 2 coarse cutoffs from any coarse one (the left
+  // half's middle), against the list of one support for all (cells and cutoff of the coarse pair).
+  VerletList<D> one(box, s0 * 2 * h_f, skin);
+  Particles<D> q = p;
+  one.update(q);
+  auto fine_candidates = [&](const VerletList<D>& l, const Particles<D>& x) {
+    // Coarse particles started at x >= mid (or on a periodic image beyond hi) and moved at most
+    // 2.1 skin: the fine ones in (lo + far, mid - far) have none within `far`.
+    const double far = 2 * (s0 * 2 * h_f + skin), a = box.lo[0] + far, b = mid - far;
+    std::size_t c = 0, fine = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (x.r[i][0] > a && x.r[i][0] < b)
+        c += l.rows().offset[i + 1] - l.rows().offset[i], ++fine;
+    EXPECT_GT(fine, 20u);
+    return static_cast<double>(c);
+  };
+  const double c_two = fine_candidates(vl, p), c_one = fine_candidates(one, q);
+  std::printf("fine particles' candidates: two levels %.0f, one support %.0f (ratio %.2f)\n", c_two,
+              c_one, c_two / c_one);
+  EXPECT_LT(c_two, 0.5 * c_one);
+}
+
+} // namespace
+
+TEST(VerletList, TwoLevelsGiveExactlyThePairsOfTheirOwnSupport2DPeriodic) {
+  verlet_two_levels<2>(periodic_box<2>(), 3000, 20.0, 21);
+}
+TEST(VerletList, TwoLevelsGiveExactlyThePairsOfTheirOwnSupport2DOpen) {
+  verlet_two_levels<2>(Domain<2>{}, 3000, 20.0, 22);
+}
+TEST(VerletList, TwoLevelsGiveExactlyThePairsOfTheirOwnSupport3DPeriodic) {
+  Domain<3> box = periodic_box<3>();
+  box.hi[0] = 3.0; // room for fine particles far from the coarse half
+  verlet_two_levels<3>(box, 5000, 15.0, 23);
+}
+
+// A periodic axis must hold 2K + 1 cells of the fine cutoff, K the coarse pair's reach in cells.
+TEST(VerletList, TwoLevelsRejectAPeriodicAxisTooShortForTheCoarseReach) {
+  Domain<2> box = periodic_box<2>();
+  Particles<2> p = random_particles<2>(200, box, 24);
+  const int hf = p.add_scalar("h", 0.09);
+  p.scalar(hf)[0] = 0.27; // 3 h_f: the coarse pair reaches 3 cells of 0.2 + 0.04 (4 per axis)
+  VerletList<2> vl(box, 2.0, 0.1, 0.3, 0.04, hf);
+  EXPECT_THROW(vl.update(p), std::invalid_argument);
+  p.scalar(hf)[0] = 0.31; // beyond the h_max the list was made for
+  VerletList<2> small(box, 2.0, 0.1, 0.3, 0.04, hf);
+  EXPECT_THROW(small.update(p), std::logic_error);
 }
