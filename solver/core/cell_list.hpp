@@ -134,7 +134,8 @@ public:
     int k = std::numeric_limits<int>::max();
     for (int a = 0; a < D; ++a)
       if (domain_.periodic[a])
-        k = std::min(k, static_cast<int>(std::floor((domain_.hi[a] - domain_.lo[a]) / support_) - 1) / 2);
+        k = std::min(
+            k, static_cast<int>(std::floor((domain_.hi[a] - domain_.lo[a]) / support_) - 1) / 2);
     return k;
   }
 

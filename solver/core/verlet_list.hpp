@@ -225,8 +225,8 @@ private:
   CellList<D> cells_;
   MinimumImage<D> image_;
   double support_, skin_;
-  double s0_ = 0.0;  // variable h: the kernel's support per unit h
-  int h_field_ = -1; // variable h: the particles' h field (-1: one support)
+  double s0_ = 0.0;       // variable h: the kernel's support per unit h
+  int h_field_ = -1;      // variable h: the particles' h field (-1: one support)
   std::vector<double> H_; // variable h: the largest h within reach of each particle's cell
   CandidateRows<D> rows_;
   std::vector<Vec<D>> r0_;

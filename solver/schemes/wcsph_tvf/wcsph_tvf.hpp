@@ -135,10 +135,10 @@ struct Options {
   double tvf_kappa = 100.0;  // slope of the limiter, eq. (15)
   double pb_factor = 1.0;    // original TVF: p_b = pb_factor rho0 c0^2
   double viscous_eps = 0.01; // r_ij + eps h in the viscous force
-  // Verlet skin as a fraction of the support (of the finest with two levels; not a job parameter: it changes the cost and the
-  // particle order, so results by round-off only). 0.25 by measurement: Taylor-Green n = 100, 205
-  // advection steps, 1 thread, CPU per step relative to skin 0 (a search every step): 0.91-0.94
-  // at 0.25 (91 builds), 0.95-0.98 at 0.5 (52), 1.02 at 0.75, 1.04-1.07 at 1
+  // Verlet skin as a fraction of the support (of the finest with two levels; not a job parameter:
+  // it changes the cost and the particle order, so results by round-off only). 0.25 by measurement:
+  // Taylor-Green n = 100, 205 advection steps, 1 thread, CPU per step relative to skin 0 (a search
+  // every step): 0.91-0.94 at 0.25 (91 builds), 0.95-0.98 at 0.5 (52), 1.02 at 0.75, 1.04-1.07 at 1
   // (docs/architecture.md).
   double skin = 0.25;
   // Set by a flow from its scales (options_for_flow): h = h_over_dx dx, c0 = c0_factor U_ref.
