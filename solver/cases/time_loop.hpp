@@ -21,7 +21,8 @@
 // resumed job rebuilds the initial configuration (so reference densities are the same), restores
 // the particles and the named state, and continues bit for bit.
 //
-// Cost metrics of every run that finished or diverged: steps, wall_time_s, time_per_step_s (wall
+// Cost metrics of every run that finished or diverged: steps, wall_time_s, cpu_time_s (process CPU
+// time of the loop, summed over the resumes of a checkpointed job), time_per_step_s (wall
 // per step), cpu_time_per_step_s (process CPU time of the loop per step: the honest cost on a
 // shared machine), time_per_particle_step_s (wall per particle and elementary step of the scheme:
 // acoustic sub-steps of wcsph_tvf, steps of isph), n_particles (the largest particle count of the
@@ -162,6 +163,7 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     const double N = n_max, steps = static_cast<double>(at.steps);
     res.add("steps", steps);
     res.add("wall_time_s", at.wall_s);
+    res.add("cpu_time_s", at.cpu_s);
     if (at.steps > 0) {
       res.add("time_per_step_s", at.wall_s / steps);
       res.add("cpu_time_per_step_s", at.cpu_s / steps);
