@@ -45,6 +45,7 @@ step contact_alpha2d studies/godunov_eta_num.toml --tier alpha2d   # 16 jobs, mi
 step contact_eta_num studies/godunov_eta_num.toml --tier paper     # 46 jobs, ~2-3 h (alpha = 1 3D: 28x a lead run)
 step cantilever studies/cantilever.toml                            # 9 jobs, ~3 min (docs/solid.md)
 step cantilever_fine studies/cantilever.toml --tier fine           # 1 more job, ~3 min
+step fsi_beam studies/fsi_beam.toml                                # 2 jobs, ~25 min (docs/fsi.md)
 step alsph_small studies/alsph_dt.toml --tier small                # 8 jobs, ~3 h
 # ISPH at Re = 1000, the README's five rows: 7, 11, 11, 40 and 74 CPU-min (dx = 0.005: 5-6 h, not run)
 for job in "visc04 0.025" "visc04 0.02" "visc03 0.02" "visc04 0.0125" "visc04 0.01"; do

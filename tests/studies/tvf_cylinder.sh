@@ -4,11 +4,11 @@
 # boundaries of issue 19 in SPHinXsys' 17 D x 8 D domain, uniform and with the band; seconds) runs
 # into a fresh database and records the force metrics the issue names; the drag is positive with
 # its viscous part a fraction of it; the refined box holds fewer particles;
-# the full study expands to its 16 jobs; the report renders. Usage: tvf_cylinder.sh RUNNER SRC
+# the full study expands to its 17 jobs; the report renders. Usage: tvf_cylinder.sh RUNNER SRC
 RUNNER="$1" SRC="$2"
 source "$(dirname "$0")/lib.sh"
 
-expect_jobs tvf_cylinder "" 16
+expect_jobs tvf_cylinder "" 17
 run_quick tvf_cylinder
 [ "$(q "SELECT count(*) FROM jobs WHERE state = 'done'")" = 4 ] || fail "expected 4 done jobs"
 for m in cd_mean cl_rms cd_viscous_mean cd_amplitude cl_amplitude tv_ratio_max; do
