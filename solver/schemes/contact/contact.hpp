@@ -49,7 +49,10 @@
 // pairs as on fluid pairs. The force the solids exert on particle i is kept (solid_force()).
 //
 // Body force: a constant acceleration g (Options::g) added to dU/dt of (35), its power g . U_i to
-// dE/dt of (36).
+// dE/dt of (36). Per-particle body force (optional field "g_factor", set by a case): particle i
+// feels g_i = g * g_factor_i (in (35), (36) and the solid-wall pressure above), e.g. the reduced
+// gravity of the falling ball: 0 on the liquid and 1 - rho_f / rho_b on the ball, the liquid's
+// hydrostatic pressure subtracted (solver/cases/falling_ball.cpp). Without the field: g for all.
 //
 // Per-particle correction (optional field "zeta_factor", set by a case): particle i's numerical
 // viscosity is corrected by zeta * zeta_factor_i instead of zeta, e.g. 0 on a body the correction
@@ -101,6 +104,7 @@ using sph::SlipWall;
 struct Fields {
   int rho0 = -1, c0 = -1, eta = -1, e = -1, src = -1;
   int zeta_factor = -1; // optional per-particle factor on zeta (-1: none, zeta for every particle)
+  int g_factor = -1;    // optional per-particle factor on the body force (-1: none, g for all)
   template <int D>
   static Fields add_to(Particles<D>& p) {
     Fields f;
@@ -130,6 +134,7 @@ struct Fields {
     f.rho0 = need("rho0"), f.c0 = need("c0"), f.eta = need("eta");
     f.e = find_or_add("e"), f.src = find_or_add("src");
     f.zeta_factor = p.find_scalar("zeta_factor");
+    f.g_factor = p.find_scalar("g_factor");
     return f;
   }
 };
@@ -153,7 +158,9 @@ struct ContactRates {
   Work<D>& w;
   const K& unit; // kernel of h = 1
   double alpha;
-  Vec<D> g; // body force per unit mass
+  Vec<D> g;               // body force per unit mass
+  const double* g_factor; // per-particle factor on g, or nullptr (1 for every particle)
+  Vec<D> g_of(std::size_t i) const { return g_factor ? Vec<D>(g_factor[i] * g) : g; }
 
   struct Acc {
     Vec<D> dv = Vec<D>::Zero();
@@ -178,7 +185,7 @@ struct ContactRates {
     const bool solid = w.solid[j];
     // A solid neighbour takes the no-slip wall state seen from i (see the file comment).
     const Vec<D> vj = solid ? Vec<D>(-vi) : p.v[j];
-    const double Pj = solid ? p.p[i] - p.rho[i] * g.dot(rij) : p.p[j];
+    const double Pj = solid ? p.p[i] - p.rho[i] * g_of(i).dot(rij) : p.p[j];
     const std::uint32_t js = solid ? static_cast<std::uint32_t>(i) : j;
     const double Zi = w.Z[i], Zj = w.Z[js];
     const RiemannSolution rs = acoustic_riemann(p.p[i], vi.dot(e), Zi, Pj, vj.dot(e), Zj);
@@ -200,10 +207,11 @@ struct ContactRates {
     a.dE -= c * F.dot(Uc);
   }
   void finish(std::size_t i, const Acc& a) {
-    w.dvdt[i] = a.dv / p.rho[i] + g;
+    const Vec<D> gi = g_of(i);
+    w.dvdt[i] = a.dv / p.rho[i] + gi;
     w.dvdt_solid[i] = a.dv_solid / p.rho[i];
     w.depsdt[i] = a.deps;
-    w.dEdt[i] = a.dE / p.rho[i] + g.dot(p.v[i]);
+    w.dEdt[i] = a.dE / p.rho[i] + gi.dot(p.v[i]);
   }
 };
 
@@ -430,7 +438,8 @@ private:
     Vec<D> g;
     for (int k = 0; k < D; ++k)
       g[k] = o_.g[k];
-    ContactRates<D, K> op{p_, w_, unit_, o_.alpha, g};
+    const double* gf = f_.g_factor >= 0 ? p_.scalar(f_.g_factor).data() : nullptr;
+    ContactRates<D, K> op{p_, w_, unit_, o_.alpha, g, gf};
     interact(nl_, op, [this](std::size_t i) { return fluid(i); });
   }
 
@@ -468,7 +477,7 @@ private:
       p_.v[g] = p_.v[i];
       p_.v[g][a] = -p_.v[i][a];
       p_.rho[g] = p_.rho[i], p_.p[g] = p_.p[i], p_.m[g] = p_.m[i];
-      for (int fi : {f_.rho0, f_.c0, f_.eta, f_.e, f_.zeta_factor})
+      for (int fi : {f_.rho0, f_.c0, f_.eta, f_.e, f_.zeta_factor, f_.g_factor})
         if (fi >= 0)
           p_.scalar(fi)[g] = p_.scalar(fi)[i];
       if (!r0_.empty())
