@@ -14,7 +14,7 @@ expect_jobs godunov_cylinders paper 14
 expect_jobs godunov_cylinders fig11 2
 expect_jobs godunov_drop resolution 6
 expect_jobs godunov_drop fine 2
-expect_jobs godunov_ball machine 8
+expect_jobs godunov_ball machine 12
 expect_jobs godunov_ball paper 12
 run_quick godunov_eta_num godunov_zeta godunov_cylinders godunov_drop godunov_ball
 [ "$(q "SELECT count(*) FROM jobs WHERE state = 'done'")" = 12 ] ||
