@@ -346,10 +346,11 @@ TEST(ContactSolid, HydrostaticColumnOnAFloorIsAtRest) {
 
 // The per-particle body force (field "g_factor", the falling ball's reduced gravity): particle i
 // feels g g_factor_i. (1) Uniform periodic lattice, factors 0, 0.25, 1: the rates of the initial
-// state are g_i exactly (the pair terms of equal states cancel; the tiny step's velocity
-// differences, g dt = 1e-8 m/s, move them by far less than the 1e-6 tolerance). (2) The floor's
-// hydrostatic column with g doubled and g_factor 0.5 everywhere is the plain column, to the bit:
-// the solid's pressure P_i - rho_i g_i . r_ij takes the particle's own g_i.
+// state are g_i and the energy rates g_i . U_i exactly (the pair terms of equal states cancel; the
+// tiny step's velocity differences, g dt = 1e-8 m/s, move them by far less than the 1e-6
+// tolerance). (2) The floor's hydrostatic column with g doubled and g_factor 0.5 everywhere is the
+// plain column, to the bit: the solid's pressure P_i - rho_i g_i . r_ij takes the particle's own
+// g_i.
 TEST(ContactScheme, GFactorScalesTheBodyForcePerParticle) {
   Box<2, WendlandC2<2>> b(12, 0.0, true);
   const int gf = b.p.add_scalar("g_factor");
@@ -365,6 +366,8 @@ TEST(ContactScheme, GFactorScalesTheBodyForcePerParticle) {
     const double fi = b.p.scalar(gf)[i]; // particles are reordered: read the factor back
     EXPECT_NEAR(s.work().dvdt[i][1], -g * fi, 1e-6 * g) << i;
     EXPECT_NEAR(s.work().dvdt[i][0], 0.0, 1e-6 * g) << i;
+    // eq. (36): the body force's power g_i . U_i (U = (30, 60) m/s on this lattice)
+    EXPECT_NEAR(s.work().dEdt[i], -g * fi * b.p.v[i][1], 1e-6 * g * 60.0) << i;
   }
 
   auto rates = [](bool halved) {
