@@ -16,6 +16,7 @@ expect_jobs godunov_drop resolution 6
 expect_jobs godunov_drop fine 2
 expect_jobs godunov_ball machine 12
 expect_jobs godunov_ball paper 12
+expect_jobs godunov_ball fig9 3
 run_quick godunov_eta_num godunov_zeta godunov_cylinders godunov_drop godunov_ball
 [ "$(q "SELECT count(*) FROM jobs WHERE state = 'done'")" = 12 ] ||
   fail "expected 12 done jobs (3 + 3 + 2 + 2 + 2)"
