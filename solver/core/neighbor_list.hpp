@@ -36,9 +36,9 @@ template <int D>
 class NeighborList {
 public:
   std::vector<std::uint32_t> offset; // pairs of particle i are [offset[i], offset[i+1])
-  std::vector<std::uint32_t> j;
-  std::vector<Vec<D>> r_ij;
-  std::vector<double> r, W, dW;
+  PairArray<std::uint32_t> j;
+  PairArray<Vec<D>> r_ij;
+  PairArray<double> r, W, dW;
 
   std::size_t num_pairs() const { return j.size(); }
   std::size_t num_particles() const { return offset.empty() ? 0 : offset.size() - 1; }

@@ -21,6 +21,7 @@
 
 #include "core/cell_list.hpp"
 #include "core/domain.hpp"
+#include "core/pair_array.hpp"
 #include "core/particles.hpp"
 
 #include <algorithm>
@@ -38,7 +39,8 @@ namespace sph {
 template <int D>
 class CandidateRows {
 public:
-  std::vector<std::uint32_t> offset, j;
+  std::vector<std::uint32_t> offset;
+  PairArray<std::uint32_t> j;
 
   std::size_t size() const { return j.size(); }
   std::size_t num_particles() const { return offset.empty() ? 0 : offset.size() - 1; }
