@@ -57,7 +57,7 @@ TEST(AlsphTerms, PredictPenaltyAndViscousTerms) {
     ++body;
   L.p.kind[body] = Kind::Body;
   const double r_al = 0.4, nu = 0.01, dt = 1e-3;
-  alsph::ops::Predict<2> op{L.p.V, coef, div, lap, un, L.p.kind, r_al, nu, dt, g, us, as};
+  alsph::ops::Predict<2> op{coef, div, lap, un, L.p.kind, r_al, nu, dt, g, us, as};
   interact_indexed(L.nl, op, [&](std::size_t i) { return L.p.kind[i] != Kind::Buffer; });
   for (std::size_t i = 0; i < N; ++i) {
     if (L.p.kind[i] == Kind::Fluid)
@@ -86,7 +86,7 @@ TEST(AlsphTerms, PressureUpdateOnLinearVelocityAndQuadraticPressure) {
     p[i] = 0.5 * x.dot(H * x) + 3.0;
   }
   const double r_al = 0.4, rho = 2.0, dt = 1e-2;
-  alsph::ops::PressureUpdate<2> op{L.p.V, coef, us, p, r_al, rho, dt, pn, ds};
+  alsph::ops::PressureUpdate<2> op{coef, us, p, r_al, rho, dt, pn, ds};
   interact_indexed(L.nl, op, L.sampled());
   for (std::size_t i = 0; i < N; ++i)
     if (L.fluid(i)) {
@@ -106,7 +106,7 @@ TEST(AlsphTerms, CorrectionOnLinearPressure) {
   std::vector<Vec2> us(N, Vec2(0.2, 0.1)), gp(N), u(N);
   for (std::size_t i = 0; i < N; ++i)
     p[i] = 1.0 + G.dot(L.p.r[i]);
-  alsph::ops::Correct<2> op{L.p.V, coef, p, us, 0.01 / 2.0, gp, u};
+  alsph::ops::Correct<2> op{coef, p, us, 0.01 / 2.0, gp, u};
   interact_indexed(L.nl, op, L.sampled());
   for (std::size_t i = 0; i < N; ++i)
     if (L.fluid(i)) {

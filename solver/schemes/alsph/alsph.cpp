@@ -33,8 +33,11 @@ namespace alsph {
 
 namespace {
 
+enum class Precision { Double, Float };
+
 struct Options : Settings {
-  double h_over_dx = 1.2; // h / dx of the quintic kernel (support 3 h)
+  double h_over_dx = 1.2;                     // h / dx of the quintic kernel (support 3 h)
+  Precision coefficients = Precision::Double; // storage of the cached pair coefficients
 };
 
 const ParamTable<Options>& table() {
@@ -52,7 +55,12 @@ const ParamTable<Options>& table() {
                    {1.0, 2.0})
           .boolean("shifting", &Options::shifting, "artificial particle displacement (eqs. 18-19)")
           .real("h_over_dx", &Options::h_over_dx,
-                "smoothing length h / dx (quintic kernel, support 3h)", {0.5, 3.0});
+                "smoothing length h / dx (quintic kernel, support 3h)", {0.5, 3.0})
+          .choice(
+              "coefficients", &Options::coefficients,
+              {{"double", Precision::Double}, {"float", Precision::Float}},
+              "storage of the cached pair coefficients V_j Gamma_i grad W_ij and the Laplacian "
+              "coefficient (float: half the bytes the inner iterations stream; sums in double)");
   return t;
 }
 
@@ -84,7 +92,7 @@ struct BodyForceOp {
 };
 
 // The time loop's view of alsph::Scheme<D, QuinticSpline<D>> (file comment).
-template <int D>
+template <int D, class Real>
 class Adapter final : public FlowScheme<D> {
 public:
   using K = QuinticSpline<D>;
@@ -201,7 +209,7 @@ private:
   Particles<D>& p_;
   Flow<D> flow_;
   K kernel_;
-  Scheme<D, K> s_;
+  Scheme<D, K, Real> s_;
   CellList<D> cells_;
   NeighborList<D> nl_;
   MirrorGhosts<D> ghosts_;
@@ -274,7 +282,10 @@ private:
 };
 
 std::unique_ptr<FlowScheme<2>> make2(const Params& prm, const Flow<2>& flow) {
-  return std::make_unique<Adapter<2>>(table().apply(prm), flow);
+  const Options o = table().apply(prm);
+  if (o.coefficients == Precision::Float)
+    return std::make_unique<Adapter<2, float>>(o, flow);
+  return std::make_unique<Adapter<2, double>>(o, flow);
 }
 
 } // namespace
@@ -292,6 +303,9 @@ SchemeInfo make_alsph_scheme() {
   s.description = "Augmented-Lagrangian SPH, Algorithms 1 and 2 (Kolukisa, Ozbulut & Yildiz 2021, "
                   "Symmetry 13:472, section 2)";
   s.params = alsph::table().specs();
+  for (auto& spec : s.params)
+    if (spec.name == "coefficients")
+      spec.neutral_default = true; // added later: the jobs without it keep their keys
   s.slip_walls = true;
   s.make2 = &alsph::make2;
   return s;

@@ -18,9 +18,10 @@
 // the same operator as VISC-04 of seed 001, eq. 20, second-order on a regular lattice).
 //
 // One neighbour search per step: the NeighborList built on r^n is reused by every iteration, and
-// so are the pair coefficients of the derivatives (ops::PairCoefficients: Gamma_i grad_i W_ij and
-// the Laplacian coefficient, computed with V and Gamma in geometry()), so that the loops of the
-// inner iterations are multiply-adds on cached values (interact_indexed).
+// so are the pair coefficients of the derivatives (ops::PairCoefficients: V_j Gamma_i grad_i W_ij
+// and the Laplacian coefficient, computed with V and Gamma in geometry(), stored in double or, with
+// coefficients = "float", in single precision), so that the loops of the inner iterations are
+// multiply-adds on cached values (interact_indexed).
 //   algorithm 2: derivatives on r^n (the cached W, dW, Gamma, V and coefficients unchanged);
 //   algorithm 1: derivatives on r^{n+1,m}: before iteration m >= 1 the cached pair list is kept
 //     but r_ij, r, W, dW are recomputed from the moved positions (r_ij += dr_i - dr_j, so periodic
@@ -33,6 +34,7 @@
 #pragma once
 
 #include "core/neighbor_list.hpp"
+#include "core/pair_array.hpp"
 #include "core/particles.hpp"
 #include "io/checkpoint.hpp"
 #include "operators/correction_matrix.hpp"
@@ -95,25 +97,34 @@ namespace ops {
 
 // The per-pair coefficients of the derivatives (eqs. 15-16), cached once per neighbour
 // configuration (once per step for algorithm 2, after every pair refresh for algorithm 1) and read
-// by every inner-iteration loop: gw_k = Gamma_i grad_i W_ij and the Laplacian coefficient
-// lap_k = 2 V_j (r_ij . Gamma_i grad_i W_ij) / (r_ij^2 + eta^2), for pair k = (i, j) of the list.
+// by every inner-iteration loop, for pair k = (i, j) of the list:
+//   gw_k = V_j Gamma_i grad_i W_ij,  so that <grad f>_i = sum_k (f_j - f_i) gw_k       (eq. 15),
+//   lap_k = 2 V_j (r_ij . Gamma_i grad_i W_ij) / (r_ij^2 + eta^2),
+//                                    so that <lap f>_i = sum_k lap_k (f_i - f_j)        (eq. 16),
+// stored as Real: double, or float to halve the bytes the memory-bound inner loops stream (the
+// sums and the fields stay in double; the scheme parameter `coefficients`).
 // Gamma_i needs only the row of i, so a caller may compute it and the row's coefficients in one
 // pass over the rows (Scheme::gamma_and_coefficients): the row is still in cache.
-template <int D>
+template <int D, class Real = double>
 struct PairCoefficients {
-  std::vector<Vec<D>> gw;
-  std::vector<double> lap;
+  using RVec = Eigen::Matrix<Real, D, 1>;
+  PairArray<RVec> gw;
+  PairArray<Real> lap;
 
   void resize(const NeighborList<D>& nl) { gw.resize(nl.num_pairs()), lap.resize(nl.num_pairs()); }
+
+  // Pair k's coefficients in double (the loops sum in double).
+  Vec<D> gw_of(std::uint32_t k) const { return gw[k].template cast<double>(); }
+  double lap_of(std::uint32_t k) const { return static_cast<double>(lap[k]); }
 
   // The coefficients of the pairs of particle i (after resize()).
   void row(const NeighborList<D>& nl, const std::vector<double>& V, const Mat<D>& gamma_i,
            double eta2, std::size_t i) {
     for (std::uint32_t k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
       const Pair<D> q = nl.pair(k);
-      const Vec<D> g = gamma_i * q.grad();
-      gw[k] = g;
-      lap[k] = 2.0 * V[q.j] * q.r_ij.dot(g) / (q.r * q.r + eta2);
+      const Vec<D> g = V[q.j] * (gamma_i * q.grad());
+      gw[k] = g.template cast<Real>();
+      lap[k] = static_cast<Real>(2.0 * q.r_ij.dot(g) / (q.r * q.r + eta2));
     }
   }
 
@@ -129,10 +140,9 @@ struct PairCoefficients {
 
 // <grad u>, <div u> = tr <grad u>, <lap u> (eqs. 15-17), on the cached pair coefficients
 // (interact_indexed).
-template <int D>
+template <int D, class Coef = PairCoefficients<D>>
 struct VelocityDerivatives {
-  const std::vector<double>& V;
-  const PairCoefficients<D>& c;
+  const Coef& c;
   const std::vector<Vec<D>>& u;
   std::vector<Mat<D>>& grad_u;
   std::vector<double>& div;
@@ -145,8 +155,8 @@ struct VelocityDerivatives {
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
     const Vec<D> du = u[j] - u[i];
-    a.g.noalias() += V[j] * du * c.gw[k].transpose();
-    a.lap -= c.lap[k] * du;
+    a.g.noalias() += du * c.gw_of(k).transpose();
+    a.lap -= c.lap_of(k) * du;
   }
   void finish(std::size_t i, const Acc& a) {
     grad_u[i] = a.g;
@@ -157,10 +167,9 @@ struct VelocityDerivatives {
 
 // <grad(div u)> and the intermediate velocity u* (eq. 8); on body particles the pseudo
 // acceleration Du_s/Dt = (u*_s - 0) / dt used by eq. (20).
-template <int D>
+template <int D, class Coef = PairCoefficients<D>>
 struct Predict {
-  const std::vector<double>& V;
-  const PairCoefficients<D>& c;
+  const Coef& c;
   const std::vector<double>& div;
   const std::vector<Vec<D>>& lap_u;
   const std::vector<Vec<D>>& u_n;
@@ -175,7 +184,7 @@ struct Predict {
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
-    a.gd += (V[j] * (div[j] - div[i])) * c.gw[k];
+    a.gd += (div[j] - div[i]) * c.gw_of(k);
   }
   void finish(std::size_t i, const Acc& a) {
     const Vec<D> acc = r_al * a.gd + nu * lap_u[i];
@@ -189,10 +198,9 @@ struct Predict {
 };
 
 // Pressure update (eq. 10) into p_new.
-template <int D>
+template <int D, class Coef = PairCoefficients<D>>
 struct PressureUpdate {
-  const std::vector<double>& V;
-  const PairCoefficients<D>& c;
+  const Coef& c;
   const std::vector<Vec<D>>& u_star;
   const std::vector<double>& p;
   double r_al, rho, dt;
@@ -204,8 +212,8 @@ struct PressureUpdate {
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
-    a.div += V[j] * (u_star[j] - u_star[i]).dot(c.gw[k]);
-    a.lap += c.lap[k] * (p[i] - p[j]);
+    a.div += (u_star[j] - u_star[i]).dot(c.gw_of(k));
+    a.lap += c.lap_of(k) * (p[i] - p[j]);
   }
   void finish(std::size_t i, const Acc& a) {
     div_star[i] = a.div;
@@ -243,10 +251,9 @@ struct BodyPressure {
 };
 
 // Velocity update (eq. 11) with the corrected pressure gradient (eq. 15).
-template <int D>
+template <int D, class Coef = PairCoefficients<D>>
 struct Correct {
-  const std::vector<double>& V;
-  const PairCoefficients<D>& c;
+  const Coef& c;
   const std::vector<double>& p;
   const std::vector<Vec<D>>& u_star;
   double dt_over_rho;
@@ -258,7 +265,7 @@ struct Correct {
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, std::uint32_t j, std::uint32_t k, Acc& a) const {
-    a.g += (V[j] * (p[j] - p[i])) * c.gw[k];
+    a.g += (p[j] - p[i]) * c.gw_of(k);
   }
   void finish(std::size_t i, const Acc& a) {
     grad_p[i] = a.g;
@@ -301,7 +308,8 @@ struct Displacement {
 
 } // namespace ops
 
-template <int D, class Kernel>
+// Real: the storage precision of the cached pair coefficients (ops::PairCoefficients).
+template <int D, class Kernel, class Real = double>
 class Scheme {
 public:
   Scheme(const Kernel& kernel, const Settings& s) : kernel_(kernel), s_(s) {
@@ -311,7 +319,8 @@ public:
   const Settings& settings() const { return s_; }
   const Timers& timers() const { return timers_; }
   // The pair coefficients of the last geometry() (ops::PairCoefficients).
-  const ops::PairCoefficients<D>& coefficients() const { return coef_; }
+  using Coefficients = ops::PairCoefficients<D, Real>;
+  const Coefficients& coefficients() const { return coef_; }
 
   // What the scheme carries across steps (for checkpoints): only its timers and counters; the
   // work arrays are recomputed from the particles at every step.
@@ -381,7 +390,7 @@ public:
         timers_.refresh += cpu_seconds() - ta;
       }
       // <grad u>, <div u>, <lap u> on the current iterate (eq. 13 check and input of eq. 8).
-      ops::VelocityDerivatives<D> da{p.V, coef_, p.v, grad_u, div, lap_u};
+      ops::VelocityDerivatives<D, Coefficients> da{coef_, p.v, grad_u, div, lap_u};
       interact_indexed(nl, da, not_ghost);
       ++timers_.evaluations;
       for (std::size_t i = 0; i < N; ++i)
@@ -400,12 +409,14 @@ public:
       for (std::size_t i = 0; i < N; ++i)
         if (kind[i] == Kind::Buffer)
           u_star[i] = p.v[i];
-      ops::Predict<D> pr{p.V, coef_, div, lap_u, u_n, kind, st.r_al, s_.nu, dt, g, u_star, a_s};
+      ops::Predict<D, Coefficients> pr{coef_, div, lap_u, u_n,    kind, st.r_al,
+                                       s_.nu, dt,  g,     u_star, a_s};
       interact_indexed(nl, pr, fluid_or_body);
       ghosts.copy_vector(u_star);
 
       // eq. (10) on fluid, then eq. (20) on the body, buffers (case), ghosts.
-      ops::PressureUpdate<D> pu{p.V, coef_, u_star, p.p, st.r_al, s_.rho, dt, p_new, div_star};
+      ops::PressureUpdate<D, Coefficients> pu{coef_,  u_star, p.p,   st.r_al,
+                                              s_.rho, dt,     p_new, div_star};
       interact_indexed(nl, pu, is_fluid);
       for (std::size_t i = 0; i < N; ++i)
         if (kind[i] == Kind::Fluid)
@@ -416,7 +427,7 @@ public:
       ghosts.copy_scalar(p.p);
 
       // eq. (11), eq. (12).
-      ops::Correct<D> co{p.V, coef_, p.p, u_star, dt / s_.rho, grad_p, p.v};
+      ops::Correct<D, Coefficients> co{coef_, p.p, u_star, dt / s_.rho, grad_p, p.v};
       interact_indexed(nl, co, is_fluid);
       ghosts.copy_vector(p.v);
       for (std::size_t i = 0; i < N; ++i)
@@ -510,7 +521,7 @@ private:
   Settings s_;
   double eta2_ = 0.0;
   Timers timers_;
-  ops::PairCoefficients<D> coef_; // of the current pair geometry (geometry())
+  Coefficients coef_; // of the current pair geometry (geometry())
 
   void resize(std::size_t N) {
     for (auto* a : {&r_n, &u_n, &r_prev, &u_star, &lap_u, &a_s, &grad_p, &dr})
