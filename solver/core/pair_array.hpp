@@ -5,7 +5,7 @@
 // fewer page faults when the list is first touched or grows, and fewer TLB misses while the loops
 // stream it. Where THP is "always" this changes nothing, where it is "never" madvise is ignored;
 // the values stored, and so every result, are the same either way. Measured on the ALSPH step
-// (docs/alsph.md, "Huge pages for the pair arrays").
+// (docs/alsph.md, "Folded volumes, single-precision coefficients, huge pages").
 #pragma once
 
 #include <cstddef>

@@ -1,7 +1,8 @@
 // Registry entry of scheme "alsph" (augmented-Lagrangian SPH, seed 004: Kolukisa, Ozbulut & Yildiz
 // 2021, section 2): its parameters, each stated once in a ParamTable bound to the Options member it
-// sets, and the FlowScheme<D> the time loop drives, which wraps alsph::Scheme<D, QuinticSpline<D>>
-// (schemes/alsph/alsph.hpp: the time integrator).
+// sets, and the FlowScheme<D> the time loop drives, which wraps
+// alsph::Scheme<D, QuinticSpline<D>, Real> (schemes/alsph/alsph.hpp: the time integrator; Real the
+// storage of its cached pair coefficients, chosen once per job by the parameter `coefficients`).
 //
 // What the scheme takes from the flow: fixed steps of flow.dt (t = n dt after n steps, a run of
 // t_end takes ceil(t_end / dt - 1e-9) steps); nu = U L / Re and rho0; Body particles fixed with
@@ -91,7 +92,7 @@ struct BodyForceOp {
   void finish(std::size_t i, const Acc& a) { f[i] = a.f, f_visc[i] = a.fv; }
 };
 
-// The time loop's view of alsph::Scheme<D, QuinticSpline<D>> (file comment).
+// The time loop's view of alsph::Scheme<D, QuinticSpline<D>, Real> (file comment).
 template <int D, class Real>
 class Adapter final : public FlowScheme<D> {
 public:
