@@ -130,58 +130,55 @@ struct Patch {
 
 } // namespace
 
+// <grad u>, <div u>, <lap u> of the field u on the patch's fluid particles (the scheme's grad_u,
+// div, lap_u), from the pair coefficients stored as Real, eta = 0 (the exact forms).
+template <class Real>
+alsph::Scheme<2, QuinticSpline<2>, Real> derivatives(Patch& t, const std::vector<Vec<2>>& u) {
+  alsph::Settings s;
+  s.eta_over_h = 0.0;
+  alsph::Scheme<2, QuinticSpline<2>, Real> sc(t.kernel, s);
+  const std::size_t N = t.p.size();
+  sc.grad_u.resize(N), sc.div.resize(N), sc.lap_u.resize(N), sc.gamma.resize(N);
+  sc.trace_b.resize(N);
+  sc.geometry(t.p, t.nl);
+  alsph::ops::VelocityDerivatives<2, typename decltype(sc)::Coefficients> op{
+      sc.coefficients(), u, sc.grad_u, sc.div, sc.lap_u};
+  interact_indexed(t.nl, op, [&](std::size_t i) { return t.p.kind[i] == Kind::Fluid; });
+  return sc;
+}
+
 // <grad u> and <div u> of u = A x + b on a disordered lattice, and <lap u> of a quadratic on the
-// regular lattice (eta = 0: the exact forms), from the cached pair coefficients stored as Real.
-// Double: exact to round-off. Float: each coefficient carries a relative error <= 6e-8 (2^-24);
-// measured, the largest errors are 3.7e-8 (|<grad u> - A|, |A| = 1.5) and 3.2e-8 (<lap u>, 6),
-// so the bound 1e-6 leaves a factor 25 and fails on a coefficient wrong by 1e-5 relative.
+// regular lattice. Double: exact to round-off. Float: each coefficient carries a relative error
+// <= 6e-8 (2^-24); measured, the largest errors are 3.7e-8 (|<grad u> - A|, |A| = 1.5) and 3.2e-8
+// (<lap u>, 6), so the bound 1e-6 leaves a factor 25 and fails on a coefficient wrong by 1e-5
+// relative.
 template <class Real>
 void check_exact_derivatives(double tol_grad, double tol_lap) {
-  alsph::Settings s;
-  s.eta_over_h = 0.0; // the Laplacian's guard off: exact forms
-  {
-    Patch t(20, 0.4);
-    alsph::Scheme<2, QuinticSpline<2>, Real> sc(t.kernel, s);
-    const std::size_t N = t.p.size();
-    sc.grad_u.resize(N), sc.div.resize(N), sc.lap_u.resize(N), sc.gamma.resize(N);
-    sc.trace_b.resize(N);
-    sc.geometry(t.p, t.nl);
-    Mat<2> A;
-    A << 0.3, -1.2, 0.7, 0.5;
-    std::vector<Vec<2>> u(N);
-    for (std::size_t i = 0; i < N; ++i)
-      u[i] = A * t.p.r[i] + Vec<2>(1.0, 2.0);
-    alsph::ops::VelocityDerivatives<2, typename decltype(sc)::Coefficients> op{
-        sc.coefficients(), u, sc.grad_u, sc.div, sc.lap_u};
-    interact_indexed(t.nl, op, [&](std::size_t i) { return t.p.kind[i] == Kind::Fluid; });
-    for (std::size_t i = 0; i < N; ++i) {
-      if (t.p.kind[i] != Kind::Fluid)
-        continue;
-      EXPECT_LT((sc.grad_u[i] - A).norm(), tol_grad) << i;
-      EXPECT_NEAR(sc.div[i], A.trace(), tol_grad) << i;
-    }
+  Patch t(20, 0.4);
+  Mat<2> A;
+  A << 0.3, -1.2, 0.7, 0.5;
+  std::vector<Vec<2>> u(t.p.size());
+  for (std::size_t i = 0; i < u.size(); ++i)
+    u[i] = A * t.p.r[i] + Vec<2>(1.0, 2.0);
+  const auto sc = derivatives<Real>(t, u);
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    if (t.p.kind[i] != Kind::Fluid)
+      continue;
+    EXPECT_LT((sc.grad_u[i] - A).norm(), tol_grad) << i;
+    EXPECT_NEAR(sc.div[i], A.trace(), tol_grad) << i;
   }
-  {
-    Patch t(20);
-    alsph::Scheme<2, QuinticSpline<2>, Real> sc(t.kernel, s);
-    const std::size_t N = t.p.size();
-    sc.grad_u.resize(N), sc.div.resize(N), sc.lap_u.resize(N), sc.gamma.resize(N);
-    sc.trace_b.resize(N);
-    sc.geometry(t.p, t.nl);
-    std::vector<Vec<2>> u(N);
-    for (std::size_t i = 0; i < N; ++i) {
-      const auto& x = t.p.r[i];
-      u[i] = Vec<2>(x[0] * x[0] + 2 * x[1] * x[1], x[0] * x[1]); // lap = (6, 0)
-    }
-    alsph::ops::VelocityDerivatives<2, typename decltype(sc)::Coefficients> op{
-        sc.coefficients(), u, sc.grad_u, sc.div, sc.lap_u};
-    interact_indexed(t.nl, op, [&](std::size_t i) { return t.p.kind[i] == Kind::Fluid; });
-    for (std::size_t i = 0; i < N; ++i) {
-      if (t.p.kind[i] != Kind::Fluid)
-        continue;
-      EXPECT_NEAR(sc.lap_u[i][0], 6.0, tol_lap) << i;
-      EXPECT_NEAR(sc.lap_u[i][1], 0.0, tol_lap) << i;
-    }
+  Patch q(20);
+  std::vector<Vec<2>> w(q.p.size());
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    const auto& x = q.p.r[i];
+    w[i] = Vec<2>(x[0] * x[0] + 2 * x[1] * x[1], x[0] * x[1]); // lap = (6, 0)
+  }
+  const auto sq = derivatives<Real>(q, w);
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (q.p.kind[i] != Kind::Fluid)
+      continue;
+    EXPECT_NEAR(sq.lap_u[i][0], 6.0, tol_lap) << i;
+    EXPECT_NEAR(sq.lap_u[i][1], 0.0, tol_lap) << i;
   }
 }
 
