@@ -141,8 +141,7 @@ alsph::Scheme<2, QuinticSpline<2>, Real> derivatives(Patch& t, const std::vector
   sc.grad_u.resize(N), sc.div.resize(N), sc.lap_u.resize(N), sc.gamma.resize(N);
   sc.trace_b.resize(N);
   sc.geometry(t.p, t.nl);
-  alsph::ops::VelocityDerivatives<2, typename decltype(sc)::Coefficients> op{
-      sc.coefficients(), u, sc.grad_u, sc.div, sc.lap_u};
+  alsph::ops::VelocityDerivatives<2, Real> op{sc.coefficients(), u, sc.grad_u, sc.div, sc.lap_u};
   interact_indexed(t.nl, op, [&](std::size_t i) { return t.p.kind[i] == Kind::Fluid; });
   return sc;
 }

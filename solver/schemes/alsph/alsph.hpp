@@ -140,9 +140,9 @@ struct PairCoefficients {
 
 // <grad u>, <div u> = tr <grad u>, <lap u> (eqs. 15-17), on the cached pair coefficients
 // (interact_indexed).
-template <int D, class Coef = PairCoefficients<D>>
+template <int D, class Real = double>
 struct VelocityDerivatives {
-  const Coef& c;
+  const PairCoefficients<D, Real>& c;
   const std::vector<Vec<D>>& u;
   std::vector<Mat<D>>& grad_u;
   std::vector<double>& div;
@@ -167,9 +167,9 @@ struct VelocityDerivatives {
 
 // <grad(div u)> and the intermediate velocity u* (eq. 8); on body particles the pseudo
 // acceleration Du_s/Dt = (u*_s - 0) / dt used by eq. (20).
-template <int D, class Coef = PairCoefficients<D>>
+template <int D, class Real = double>
 struct Predict {
-  const Coef& c;
+  const PairCoefficients<D, Real>& c;
   const std::vector<double>& div;
   const std::vector<Vec<D>>& lap_u;
   const std::vector<Vec<D>>& u_n;
@@ -198,9 +198,9 @@ struct Predict {
 };
 
 // Pressure update (eq. 10) into p_new.
-template <int D, class Coef = PairCoefficients<D>>
+template <int D, class Real = double>
 struct PressureUpdate {
-  const Coef& c;
+  const PairCoefficients<D, Real>& c;
   const std::vector<Vec<D>>& u_star;
   const std::vector<double>& p;
   double r_al, rho, dt;
@@ -251,9 +251,9 @@ struct BodyPressure {
 };
 
 // Velocity update (eq. 11) with the corrected pressure gradient (eq. 15).
-template <int D, class Coef = PairCoefficients<D>>
+template <int D, class Real = double>
 struct Correct {
-  const Coef& c;
+  const PairCoefficients<D, Real>& c;
   const std::vector<double>& p;
   const std::vector<Vec<D>>& u_star;
   double dt_over_rho;
@@ -390,7 +390,7 @@ public:
         timers_.refresh += cpu_seconds() - ta;
       }
       // <grad u>, <div u>, <lap u> on the current iterate (eq. 13 check and input of eq. 8).
-      ops::VelocityDerivatives<D, Coefficients> da{coef_, p.v, grad_u, div, lap_u};
+      ops::VelocityDerivatives<D, Real> da{coef_, p.v, grad_u, div, lap_u};
       interact_indexed(nl, da, not_ghost);
       ++timers_.evaluations;
       for (std::size_t i = 0; i < N; ++i)
@@ -409,14 +409,12 @@ public:
       for (std::size_t i = 0; i < N; ++i)
         if (kind[i] == Kind::Buffer)
           u_star[i] = p.v[i];
-      ops::Predict<D, Coefficients> pr{coef_, div, lap_u, u_n,    kind, st.r_al,
-                                       s_.nu, dt,  g,     u_star, a_s};
+      ops::Predict<D, Real> pr{coef_, div, lap_u, u_n, kind, st.r_al, s_.nu, dt, g, u_star, a_s};
       interact_indexed(nl, pr, fluid_or_body);
       ghosts.copy_vector(u_star);
 
       // eq. (10) on fluid, then eq. (20) on the body, buffers (case), ghosts.
-      ops::PressureUpdate<D, Coefficients> pu{coef_,  u_star, p.p,   st.r_al,
-                                              s_.rho, dt,     p_new, div_star};
+      ops::PressureUpdate<D, Real> pu{coef_, u_star, p.p, st.r_al, s_.rho, dt, p_new, div_star};
       interact_indexed(nl, pu, is_fluid);
       for (std::size_t i = 0; i < N; ++i)
         if (kind[i] == Kind::Fluid)
@@ -427,7 +425,7 @@ public:
       ghosts.copy_scalar(p.p);
 
       // eq. (11), eq. (12).
-      ops::Correct<D, Coefficients> co{coef_, p.p, u_star, dt / s_.rho, grad_p, p.v};
+      ops::Correct<D, Real> co{coef_, p.p, u_star, dt / s_.rho, grad_p, p.v};
       interact_indexed(nl, co, is_fluid);
       ghosts.copy_vector(p.v);
       for (std::size_t i = 0; i < N; ++i)
