@@ -663,7 +663,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           req.exe = opts.self_exe;
           req.args = {"job",   "--spec",           t->spec.string(),
                       "--out", t->result.string(), "--die-with-parent"};
-          req.env = {{"OMP_NUM_THREADS", std::to_string(opts.threads_per_job)}};
+          req.env = job_environment(opts.threads_per_job);
           req.log_path = t->log;
           ChildOutcome c = run_child(req, opts.timeout_s, g_stop, opts.kill_grace_s);
           ch.push_outcome({std::move(*t), std::move(c)});

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -17,6 +18,14 @@
 extern char** environ;
 
 namespace sph::runner {
+
+std::vector<std::pair<std::string, std::string>> job_environment(int threads) {
+  std::vector<std::pair<std::string, std::string>> env = {
+      {"OMP_NUM_THREADS", std::to_string(threads)}};
+  if (!std::getenv("OMP_WAIT_POLICY"))
+    env.emplace_back("OMP_WAIT_POLICY", "passive");
+  return env;
+}
 
 bool pid_alive(int pid) {
   if (pid <= 0)

@@ -19,6 +19,11 @@ struct ChildRequest {
   std::filesystem::path log_path;                       // receives stdout and stderr
 };
 
+// The environment a job process gets on top of the runner's: OMP_NUM_THREADS = threads, and
+// OMP_WAIT_POLICY = passive unless the user set it (threads that wait spin otherwise, and on a
+// shared machine spinning threads made a 2-thread job 2-2.6x slower per step than 1 thread).
+std::vector<std::pair<std::string, std::string>> job_environment(int threads);
+
 struct ChildOutcome {
   std::string spawn_error; // non-empty: the child never started
   int pid = 0;

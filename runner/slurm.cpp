@@ -334,7 +334,7 @@ int run_slurm_task(const fs::path& manifest_path, int task) {
     ChildRequest req;
     req.exe = m.at("runner").get<std::string>();
     req.args = {"job", "--spec", spec.string(), "--out", result.string(), "--die-with-parent"};
-    req.env = {{"OMP_NUM_THREADS", std::to_string(m.value("threads", 1))}};
+    req.env = job_environment(m.value("threads", 1));
     req.log_path = log;
     ChildOutcome c = run_child(req, timeout, g_task_stop, 5);
     // scancel signals every process of the task, the job too: a job stopped that way is not an
