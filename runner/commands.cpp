@@ -1,6 +1,8 @@
 // Read-only commands over the store: query, status, cases, table, export, publish.
 #include "commands.hpp"
 
+#include "convergence.hpp"
+
 #include "diagnostics.hpp"
 #include "job_file.hpp"
 #include "params.hpp"
@@ -12,6 +14,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -661,6 +664,279 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
     log << "; " << stale << " of the database's jobs are stale (made by other solver code than "
         << "this build's; their code_version says which)";
   log << "\n";
+  return 0;
+}
+
+namespace {
+
+struct ConvergeRow {
+  double x;
+  double f;
+  nlohmann::json params;
+};
+
+// The rows of `runner converge` from the database: the study's current jobs with the metric.
+std::vector<ConvergeRow> converge_rows_db(const std::filesystem::path& db_path,
+                                          const ConvergeOptions& c) {
+  Store store = Store::open_read(db_path);
+  const std::int64_t sid = study_id(store, c.study);
+  if (!store.has_param(sid, c.param)) {
+    std::vector<std::string> names = store.param_names(sid);
+    throw std::runtime_error("--param '" + c.param + "' is not a parameter of this study's jobs" +
+                             did_you_mean(c.param, names) +
+                             (names.empty() ? "" : "; parameters: " + quoted_list(names)));
+  }
+  JobFilter filter = where_filter(store, sid, c.where);
+  const std::vector<PivotMember> all = store.pivot_members(sid, c.param, c.param, c.metric, filter);
+  if (all.empty()) {
+    std::vector<std::string> names = store.metric_names(sid);
+    const bool known = std::find(names.begin(), names.end(), c.metric) != names.end();
+    throw std::runtime_error("no values of metric '" + c.metric + "' in study '" + c.study + "'" +
+                             (known
+                                  ? std::string(" with these filters")
+                                  : did_you_mean(c.metric, names) +
+                                        (names.empty() ? "" : "; metrics: " + quoted_list(names))));
+  }
+  std::vector<ConvergeRow> rows;
+  for (const PivotMember& m : all) {
+    if (m.row.type != SQLITE_INTEGER && m.row.type != SQLITE_FLOAT)
+      throw std::runtime_error("--param '" + c.param + "' has a non-numeric value '" +
+                               cell_text(m.row) + "'");
+    rows.push_back({m.row.type == SQLITE_INTEGER ? static_cast<double>(m.row.integer) : m.row.real,
+                    m.value, nlohmann::json::parse(m.params, nullptr, false)});
+  }
+  return rows;
+}
+
+// The same from a published record (docs/results/STUDY.csv, `runner publish`): its rows of the
+// study and metric, --where applied to each job's parameters.
+std::vector<ConvergeRow> converge_rows_csv(const std::filesystem::path& file,
+                                           const ConvergeOptions& c) {
+  std::ifstream in(file);
+  if (!in)
+    throw std::runtime_error(file.string() + ": cannot read");
+  std::string line;
+  if (!std::getline(in, line) || line != publish_header)
+    throw std::runtime_error(file.string() + ": line 1: expected the header '" + publish_header +
+                             "' (a file written by runner publish)");
+  std::vector<std::pair<std::string, std::string>> where;
+  for (const auto& w : c.where) {
+    const auto eq = w.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::runtime_error("--where '" + w + "': expected KEY=VALUE, e.g. lattice=uniform");
+    where.emplace_back(w.substr(0, eq), w.substr(eq + 1));
+  }
+  auto matches = [&](const nlohmann::json& p, const std::string& key, const std::string& value) {
+    const auto it = p.find(key);
+    if (it == p.end())
+      return false;
+    if (it->is_number()) {
+      char* endp = nullptr;
+      const double x = std::strtod(value.c_str(), &endp);
+      return endp && *endp == 0 && !value.empty() && x == it->get<double>();
+    }
+    if (it->is_boolean())
+      return (value == "true") == it->get<bool>() && (value == "true" || value == "false");
+    return it->is_string() && it->get<std::string>() == value;
+  };
+  std::vector<ConvergeRow> rows;
+  std::set<std::string> params_seen, metrics_seen;
+  bool param_numeric = true;
+  for (int n = 2; std::getline(in, line); ++n) {
+    const auto f = csv_split(line);
+    if (f.size() != 7)
+      throw std::runtime_error(file.string() + ": line " + std::to_string(n) +
+                               ": expected 7 fields");
+    if (f[0] != c.study)
+      continue;
+    metrics_seen.insert(f[5]);
+    const nlohmann::json p = nlohmann::json::parse(f[4], nullptr, false);
+    if (!p.is_object())
+      continue;
+    for (const auto& [k, v] : p.items())
+      params_seen.insert(k);
+    if (f[5] != c.metric)
+      continue;
+    bool ok = true;
+    for (const auto& [k, v] : where)
+      ok = ok && matches(p, k, v);
+    const auto it = p.find(c.param);
+    if (!ok || it == p.end())
+      continue;
+    if (!it->is_number()) {
+      param_numeric = false;
+      continue;
+    }
+    rows.push_back({it->get<double>(), std::strtod(f[6].c_str(), nullptr), p});
+  }
+  if (!params_seen.count(c.param)) {
+    const std::vector<std::string> names(params_seen.begin(), params_seen.end());
+    throw std::runtime_error(file.string() + ": --param '" + c.param +
+                             "' is not a parameter of "
+                             "study '" +
+                             c.study + "'" + did_you_mean(c.param, names));
+  }
+  if (!param_numeric)
+    throw std::runtime_error("--param '" + c.param + "' has non-numeric values");
+  if (rows.empty()) {
+    const std::vector<std::string> names(metrics_seen.begin(), metrics_seen.end());
+    throw std::runtime_error(file.string() + ": no values of metric '" + c.metric + "' in study '" +
+                             c.study + "'" +
+                             (metrics_seen.count(c.metric) ? std::string(" with these filters")
+                                                           : did_you_mean(c.metric, names)));
+  }
+  return rows;
+}
+
+} // namespace
+
+int cmd_converge(const std::filesystem::path& db_path, const ConvergeOptions& c,
+                 std::ostream& out) {
+  if (c.kind != "self" && c.kind != "error")
+    throw std::runtime_error("--kind must be self or error");
+  if (c.resolution != "auto" && c.resolution != "spacing" && c.resolution != "count")
+    throw std::runtime_error("--resolution must be auto, spacing or count");
+  if (c.format != "text" && c.format != "csv" && c.format != "markdown")
+    throw std::runtime_error("--format must be text, csv or markdown");
+  json_path(c.param);
+  using Row = ConvergeRow;
+  const std::vector<Row> rows =
+      c.published.empty() ? converge_rows_db(db_path, c) : converge_rows_csv(c.published, c);
+  // A count (n_side, D_over_dx) when every value is a whole number >= 2, else a spacing.
+  bool count = c.resolution == "count";
+  if (c.resolution == "auto") {
+    count = true;
+    for (const Row& r : rows)
+      count = count && r.x >= 2 && r.x == std::floor(r.x);
+  }
+  // The groups: the other parameters that vary, leaving out those that are a function of the
+  // resolution (a time step derived from dx does not split a group).
+  std::map<std::string, std::set<std::string>> values;
+  std::map<std::string, std::map<double, std::set<std::string>>> by_x;
+  for (const Row& r : rows)
+    if (r.params.is_object())
+      for (const auto& [k, v] : r.params.items())
+        if (k != c.param)
+          values[k].insert(v.dump()), by_x[k][r.x].insert(v.dump());
+  std::vector<std::string> group_keys;
+  for (const auto& [k, vs] : values) {
+    if (vs.size() < 2)
+      continue;
+    bool function_of_x = true;
+    for (const auto& [x, s] : by_x[k])
+      function_of_x = function_of_x && s.size() == 1;
+    if (!function_of_x)
+      group_keys.push_back(k);
+  }
+  std::map<std::string, std::map<double, std::vector<double>>> groups;
+  for (const Row& r : rows) {
+    std::string label;
+    for (const auto& k : group_keys) {
+      const auto it = r.params.find(k);
+      std::string v = it == r.params.end() ? "-" : it->dump();
+      if (v.size() > 1 && v.front() == '"')
+        v = v.substr(1, v.size() - 2);
+      label += (label.empty() ? "" : " ") + k + "=" + v;
+    }
+    groups[label][r.x].push_back(r.f);
+  }
+  const bool text = c.format == "text", md = c.format == "markdown";
+  std::vector<std::string> header = {"group", "resolutions", c.param + " finest",
+                                     c.metric + " finest"};
+  if (c.kind == "self")
+    for (const char* s : {"p", "extrapolated", "GCI_fine %", "note"})
+      header.push_back(s);
+  else
+    for (const char* s : {"p (finest pair)", "p (fit, all)", "note"})
+      header.push_back(s);
+  std::vector<std::vector<std::string>> table;
+  auto num = [](std::optional<double> v, const char* fmt = "%.4g") {
+    if (!v)
+      return std::string();
+    char buf[32];
+    std::snprintf(buf, sizeof buf, fmt, *v);
+    return std::string(buf);
+  };
+  for (const auto& [label, by_res] : groups) {
+    std::vector<GridValue> grids;
+    std::string list;
+    bool averaged = false;
+    for (const auto& [x, fs] : by_res) {
+      double f = 0;
+      for (double v : fs)
+        f += v;
+      f /= static_cast<double>(fs.size());
+      averaged = averaged || fs.size() > 1;
+      grids.push_back({count ? 1.0 / x : x, f});
+      list += (list.empty() ? "" : " ") + num(x, "%.6g");
+    }
+    std::vector<std::string> row = {label.empty() ? "(all)" : label, list};
+    const auto finest =
+        std::min_element(grids.begin(), grids.end(), [](auto& a, auto& b) { return a.h < b.h; });
+    row.push_back(num(count ? 1.0 / finest->h : finest->h, "%.6g"));
+    row.push_back(num(finest->f));
+    if (grids.size() < 2) {
+      row.insert(row.end(), c.kind == "self" ? 3 : 2, "");
+      row.push_back("one resolution");
+    } else if (c.kind == "self") {
+      const Convergence r = self_convergence(grids, c.formal_order);
+      row.push_back(num(r.p, "%.3f"));
+      row.push_back(num(r.f_ext));
+      row.push_back(r.gci_fine ? num(100.0 * *r.gci_fine, "%.3g") : "");
+      row.push_back(r.note + (r.grids > 3
+                                  ? std::string(r.note.empty() ? "" : "; ") +
+                                        "p from the three finest of " + std::to_string(r.grids)
+                                  : ""));
+    } else {
+      const Convergence r = error_convergence(grids);
+      row.push_back(num(r.p, "%.3f"));
+      row.push_back(r.grids > 2 ? num(r.p_fit, "%.3f") : "");
+      row.push_back(r.note);
+    }
+    if (averaged)
+      row.back() +=
+          (row.back().empty() ? "" : "; ") + std::string("mean of several jobs per resolution");
+    table.push_back(row);
+  }
+  if (text) {
+    out << c.study << ": " << c.metric << " against " << c.param
+        << (count ? " (a count: spacing h = 1/" + c.param + ")" : " (a spacing)") << ", "
+        << (c.kind == "self" ? "self-convergence: order from the three finest resolutions (Celik "
+                               "et al. 2008), Richardson extrapolation, GCI with Fs = 1.25 (3 "
+                               "with two resolutions)"
+                             : "an error against a reference: order from the finest pair and a "
+                               "least-squares fit of ln|error| against ln h")
+        << "\n";
+    std::vector<std::size_t> w(header.size());
+    for (std::size_t k = 0; k < header.size(); ++k) {
+      w[k] = header[k].size();
+      for (const auto& r : table)
+        w[k] = std::max(w[k], r[k].size());
+    }
+    auto line = [&](const std::vector<std::string>& r) {
+      std::string s;
+      for (std::size_t k = 0; k < r.size(); ++k)
+        s += r[k] + std::string(k + 1 < r.size() ? w[k] - r[k].size() + 2 : 0, ' ');
+      while (!s.empty() && s.back() == ' ')
+        s.pop_back();
+      out << s << "\n";
+    };
+    line(header);
+    for (const auto& r : table)
+      line(r);
+  } else {
+    auto line = [&](const std::vector<std::string>& r) {
+      for (std::size_t k = 0; k < r.size(); ++k)
+        out << (md ? (k ? " | " : "| ") : (k ? "," : ""))
+            << (md ? markdown_cell(r[k]) : csv_field(r[k]));
+      out << (md ? " |\n" : "\n");
+    };
+    line(header);
+    if (md)
+      line(std::vector<std::string>(header.size(), "---"));
+    for (const auto& r : table)
+      line(r);
+  }
   return 0;
 }
 

@@ -30,6 +30,22 @@ struct TableOptions {
 };
 int cmd_table(const std::filesystem::path& db, const TableOptions& t, std::ostream& out);
 
+// Grid-convergence verification of a metric over a resolution parameter (convergence.hpp): per
+// group of the other parameters, the observed order, the Richardson-extrapolated value and the
+// GCI of the finest resolution.
+struct ConvergeOptions {
+  std::string study;
+  std::string param; // the resolution: a spacing (dx) or a count (n_side, D_over_dx)
+  std::string metric;
+  std::string kind = "self";          // self: the metric converges to a value; error: it tends to 0
+  std::string resolution = "auto";    // auto, spacing or count (count: h = 1 / value)
+  std::optional<double> formal_order; // stands in for p where only two resolutions exist
+  std::string format = "text";        // text, csv or markdown
+  std::vector<std::string> where;
+  std::string published; // read a published record (docs/results/STUDY.csv) instead of the db
+};
+int cmd_converge(const std::filesystem::path& db, const ConvergeOptions& c, std::ostream& out);
+
 // One row (csv) or object (json) per job of a study: key, state, scheme, parameters, metrics.
 int cmd_export(const std::filesystem::path& db, const std::string& study, const std::string& format,
                std::ostream& out);

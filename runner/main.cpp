@@ -7,6 +7,7 @@
 #include "overrides.hpp"
 #include "provenance.hpp"
 #include "report.hpp"
+#include "search.hpp"
 #include "slurm.hpp"
 #include "store.hpp"
 #include "study.hpp"
@@ -70,8 +71,9 @@ int main(int argc, char** argv) {
   // A positional study file and subcommands clash in CLI11: treat `runner STUDY.toml ...` as
   // `runner run STUDY.toml ...`.
   static const std::set<std::string> subcommands = {
-      "report", "run",     "job",    "query",  "status",     "cases", "table",  "one",
-      "export", "publish", "submit", "ingest", "slurm-task", "-h",    "--help", "--version"};
+      "report",     "run", "job",    "query",     "status",  "cases",
+      "table",      "one", "export", "publish",   "submit",  "ingest",
+      "slurm-task", "-h",  "--help", "--version", "converge"};
   std::vector<std::string> args(argv, argv + argc);
   if (args.size() > 1 && !subcommands.count(args[1]))
     args.insert(args.begin() + 1, "run");
@@ -198,6 +200,39 @@ int main(int argc, char** argv) {
                     "--where lattice=uniform");
   table->add_option("--db", db_table, "Database file")->capture_default_str();
 
+  ConvergeOptions copt;
+  std::string db_converge = default_db;
+  double formal_order = 0;
+  auto* converge = app.add_subcommand(
+      "converge", "Observed order, Richardson-extrapolated value and grid-convergence index of a "
+                  "metric over a resolution parameter, per group of the other parameters");
+  converge->add_option("study", copt.study)->required();
+  converge
+      ->add_option("--param", copt.param,
+                   "The resolution parameter: a spacing (dx) or a count (n_side, D_over_dx)")
+      ->required();
+  converge->add_option("--value", copt.metric, "Metric")->required();
+  converge
+      ->add_option("--kind", copt.kind,
+                   "self: the metric converges to an unknown value (order from three "
+                   "resolutions); error: the metric is an error against a reference (tends to 0)")
+      ->capture_default_str();
+  converge
+      ->add_option("--resolution", copt.resolution,
+                   "auto, spacing or count (count: spacing = 1/value; auto: count when every "
+                   "value is a whole number >= 2)")
+      ->capture_default_str();
+  auto* formal = converge->add_option(
+      "--formal-order", formal_order,
+      "The order assumed where a group has only two resolutions (its GCI then uses Fs = 3)");
+  converge->add_option("--format", copt.format, "text, csv or markdown")->capture_default_str();
+  converge->add_option("--where", copt.where,
+                       "Only jobs with this parameter value, KEY=VALUE (repeatable)");
+  converge->add_option("--db", db_converge, "Database file")->capture_default_str();
+  converge->add_option("--published", copt.published,
+                       "Read a published record (docs/results/STUDY.csv, written by `runner "
+                       "publish`) instead of the database");
+
   std::string db_export = default_db, export_study, export_format = "csv";
   auto* exp = app.add_subcommand("export", "Export a study's jobs, parameters and metrics");
   exp->add_option("study", export_study)->required();
@@ -310,6 +345,8 @@ int main(int argc, char** argv) {
       if (timeout > 0)
         ro.timeout_s = timeout;
       Study study = load_study(study_file);
+      if (study.search)
+        return run_search(study, ro, std::cout, std::cerr);
       return run_study(study, ro, std::cout, std::cerr);
     }
     if (*one) {
@@ -328,6 +365,11 @@ int main(int argc, char** argv) {
       if (submit_timeout > 0)
         so.timeout_s = submit_timeout;
       Study study = load_study(submit_file);
+      if (study.search)
+        throw std::runtime_error(submit_file +
+                                 ": a study with [search] runs its probes one round at a time "
+                                 "and cannot be submitted as one array; run it with `runner "
+                                 "run` (inside a Slurm allocation if need be)");
       return cmd_submit(study, so, std::cout, std::cerr);
     }
     if (*ingest)
@@ -340,6 +382,11 @@ int main(int argc, char** argv) {
       return cmd_cases(std::cout);
     if (*table)
       return cmd_table(db_table, topt, std::cout);
+    if (*converge) {
+      if (formal->count())
+        copt.formal_order = formal_order;
+      return cmd_converge(db_converge, copt, std::cout);
+    }
     if (*report) {
       report_opt.db = report_db;
       return cmd_report(report_opt, std::cout);
@@ -356,16 +403,17 @@ int main(int argc, char** argv) {
   } catch (const SqliteError& e) {
     // A page found damaged in the middle of a command: name the file and what to do.
     int primary = e.code() & 0xff;
-    std::string db = *run      ? db_run
-                     : *one    ? db_one
-                     : *submit ? db_submit
-                     : *ingest ? db_ingest
-                     : *query  ? db_query
-                     : *status ? db_status
-                     : *table  ? db_table
-                     : *report ? report_db
-                     : *exp    ? db_export
-                               : std::string();
+    std::string db = *run        ? db_run
+                     : *one      ? db_one
+                     : *submit   ? db_submit
+                     : *ingest   ? db_ingest
+                     : *query    ? db_query
+                     : *status   ? db_status
+                     : *table    ? db_table
+                     : *converge ? db_converge
+                     : *report   ? report_db
+                     : *exp      ? db_export
+                                 : std::string();
     if ((primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) && !db.empty())
       std::cerr << "runner: error: " << damaged_message(db, e.what(), false) << "\n";
     else if (!db.empty())

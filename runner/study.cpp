@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
@@ -92,8 +93,8 @@ public:
     }
     study_.definition_sha256 = sha256_hex(text);
 
-    static const std::vector<std::string> top = {"study",   "params", "sweep",   "zip",
-                                                 "figures", "cases",  "derived", "tiers"};
+    static const std::vector<std::string> top = {"study", "params",  "sweep", "zip",   "figures",
+                                                 "cases", "derived", "tiers", "search"};
     for (auto&& [k, v] : root) {
       std::string key(k.str());
       if (std::find(top.begin(), top.end(), key) == top.end())
@@ -102,7 +103,7 @@ public:
                         std::string(v.is_table() ? "table [" + key + "]" : "key '" + key + "'") +
                         did_you_mean(key, top) +
                         "; expected [study], [params], [sweep], [[zip]], [[cases]], "
-                        "[derived] or [tiers.NAME]");
+                        "[derived], [search] or [tiers.NAME]");
     }
 
     const toml::table* st = root["study"].as_table();
@@ -127,6 +128,8 @@ public:
       parse_derived(*n);
     if (auto n = root.get("tiers"))
       parse_tiers(*n);
+    if (auto n = root.get("search"))
+      parse_search(*n);
     if (auto n = root.get("figures")) // [[figures]]: what `runner report` draws (docs/report.md)
       parse_figures_node(*n, study_.specs, study_.file, diag_);
     check_conflicts();
@@ -485,6 +488,95 @@ private:
   }
 
   // A parameter may be set in one place only: [params], a sweep axis, a zip group or [derived].
+  // [search] param = "dt_star", lo = 0.01, hi = 0.2, until = 0.05, scale = "log",
+  // unstable_above = { cl_rms = 5.0 }, unstable_below = { ... }.
+  void parse_search(const toml::node& n) {
+    const std::string where = "[search]";
+    auto t = table_or_error(n, where, " (param = \"dt_star\", lo = ..., hi = ..., until = 0.05)");
+    if (!t)
+      return;
+    static const std::vector<std::string> keys = {
+        "param", "lo", "hi", "until", "scale", "unstable_above", "unstable_below"};
+    for (auto&& [k, v] : *t) {
+      std::string key(k.str());
+      if (std::find(keys.begin(), keys.end(), key) == keys.end())
+        diag_.error(line_of(v), where + " unknown key '" + key + "'" + did_you_mean(key, keys) +
+                                    "; expected " + quoted_list(keys));
+    }
+    Search s;
+    s.line = line_of(n);
+    auto number = [&](const char* key, bool required) -> std::optional<double> {
+      const toml::node* v = t->get(key);
+      if (!v) {
+        if (required)
+          diag_.error(s.line, where + " missing key '" + key + "'");
+        return std::nullopt;
+      }
+      if (auto i = v->as_integer())
+        return static_cast<double>(i->get());
+      if (auto d = v->as_floating_point(); d && std::isfinite(d->get()))
+        return d->get();
+      diag_.error(line_of(*v),
+                  where + " " + key + ": expected a finite number, got " + node_kind(*v));
+      return std::nullopt;
+    };
+    const toml::node* p = t->get("param");
+    if (!p || !p->is_string()) {
+      diag_.error(p ? line_of(*p) : s.line,
+                  where + " param: expected the name of the searched parameter, e.g. \"dt_star\"");
+    } else if (auto spec = spec_for(p->as_string()->get(), line_of(*p), where + " param:")) {
+      s.param = spec->name;
+      if (spec->type != ParamType::Real && spec->type != ParamType::Int)
+        diag_.error(line_of(*p), where + " param: '" + s.param + "' is " + type_phrase(spec->type) +
+                                     "; only a numeric parameter can be searched");
+    }
+    const auto lo = number("lo", true), hi = number("hi", true);
+    if (lo && hi) {
+      s.lo = *lo, s.hi = *hi;
+      if (s.lo == s.hi)
+        diag_.error(s.line,
+                    where + " lo and hi are equal; lo is the stable end, hi the unstable one");
+    }
+    if (auto u = number("until", false)) {
+      if (!(*u > 0 && *u < 1))
+        diag_.error(line_of(*t->get("until")),
+                    where +
+                        " until: expected the final bracket's relative width in (0, 1), e.g. 0.05");
+      s.until = *u;
+    }
+    if (const toml::node* sc = t->get("scale")) {
+      const auto* str = sc->as_string();
+      if (!str || (str->get() != "log" && str->get() != "linear"))
+        diag_.error(line_of(*sc), where + " scale: expected \"log\" or \"linear\"");
+      else
+        s.log = str->get() == "log";
+      if (s.log && lo && hi && !(s.lo > 0 && s.hi > 0))
+        diag_.error(line_of(*sc), where + " scale = \"log\" needs lo and hi > 0");
+    }
+    for (const char* key : {"unstable_above", "unstable_below"}) {
+      const toml::node* b = t->get(key);
+      if (!b)
+        continue;
+      auto bt = table_or_error(*b, where + " " + key, " ({ metric = bound })");
+      if (!bt)
+        continue;
+      for (auto& [m, v] : ordered(*bt)) {
+        double x = 0;
+        if (auto i = v->as_integer())
+          x = static_cast<double>(i->get());
+        else if (auto d = v->as_floating_point())
+          x = d->get();
+        else {
+          diag_.error(line_of(*v), where + " " + key + " " + m + ": expected a number");
+          continue;
+        }
+        (std::string(key) == "unstable_above" ? s.unstable_above : s.unstable_below)
+            .emplace_back(m, x);
+      }
+    }
+    study_.search = std::move(s);
+  }
+
   void check_conflicts() {
     struct Seen {
       std::string where;
@@ -527,6 +619,25 @@ private:
           if (a.name == d.name)
             diag_.error(a.line, "[tiers." + t.name + "] params " + a.name + ": '" + a.name +
                                     "' is derived (line " + std::to_string(d.line) + ")");
+    }
+    if (study_.search && !study_.search->param.empty()) {
+      const std::string& sp = study_.search->param;
+      auto it = seen.find(sp);
+      if (it != seen.end() && it->second.where != "[params]" && it->second.where != "[study]")
+        diag_.error(study_.search->line, "[search] param: '" + sp + "' is in " + it->second.where +
+                                             " (line " + std::to_string(it->second.line) +
+                                             "); the searched parameter is set by the search only");
+      for (const auto& c : study_.cases)
+        for (const auto& a : c.overrides)
+          if (a.name == sp)
+            diag_.error(a.line,
+                        "[[cases]] " + sp + ": the searched parameter is set by the search");
+      for (const auto& t : study_.tiers) {
+        for (const auto& a : t.sweep)
+          if (a.name == sp)
+            diag_.error(a.line, "[tiers." + t.name + "] sweep " + sp +
+                                    ": the searched parameter is set by the search");
+      }
     }
   }
 };

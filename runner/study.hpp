@@ -63,6 +63,18 @@ struct Tier {
   std::optional<std::vector<Exclude>> exclude;    // replaces [study] exclude
 };
 
+// [search]: the stability edge of one numeric parameter, by bisection between a value taken as
+// stable (lo) and one taken as unstable (hi), for every job of the expansion (a group); each probe
+// is an ordinary job. A probe is unstable when it diverges or a metric passes its bound.
+struct Search {
+  std::string param;
+  double lo = 0, hi = 0;
+  double until = 0.05; // stop when |b - a| <= until |a| for the bracket [a, b]
+  bool log = false;    // bisect in log(value): geometric midpoints
+  std::vector<std::pair<std::string, double>> unstable_above, unstable_below; // metric bounds
+  int line = 0;
+};
+
 struct Study {
   std::string file; // as given (used in messages)
   std::string name;
@@ -79,6 +91,7 @@ struct Study {
   std::vector<Derived> derived;
   std::vector<Exclude> exclude;
   std::vector<Tier> tiers;
+  std::optional<Search> search;
 
   std::string definition_sha256; // of the file's bytes
   // Registering the study adds its jobs without retiring the others (`runner one`'s "adhoc").
