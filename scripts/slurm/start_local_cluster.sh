@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Configures and starts a single-node Slurm cluster on this machine (munged, slurmctld, slurmd),
 # for tests of `runner submit --slurm`. Installs nothing: slurm-wlm and munge come from
-# scripts/install_deps.sh. Run as root. Idempotent: an already running cluster is left alone.
+# scripts/install_deps.sh --with-slurm. Run as root. Idempotent: an already running cluster is left alone.
 #   scripts/slurm/start_local_cluster.sh          # start (about 20 s)
 #   scripts/slurm/start_local_cluster.sh --stop   # stop the daemons it started
 set -euo pipefail

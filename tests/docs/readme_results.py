@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
-"""Every number the README's result tables quote equals a committed run (issue 15, section 4).
+"""Every number the documentation's result tables quote equals a committed run.
 
-The runs behind the README are committed as docs/results/<study>.csv, written by
+The tables are read from README.md and from every Markdown page under docs/ (the results live in
+docs/results.md); a page without a results mark is skipped.
+
+The runs behind these tables are committed as docs/results/<study>.csv, written by
 `runner publish STUDY`, with exactly the header `study,job,tier,code_version,params,metric,value`
 (one row per job and metric; `params` is the job's canonical JSON, `job` its key).
 
-A result table of the README is marked by a comment on the line before it:
+A result table is marked by a comment on the line before it:
 
     <!-- results: isph_cavity isph_cavity_re100 -->
     | Re | dx | form | u_x min <!-- ux_min --> | CPU/step <!-- ms_per_step*1000 --> |
@@ -108,17 +111,41 @@ def quoted_number(cell):
     return float(m.group(0)), 0.5 * 10.0 ** (exponent - decimals)
 
 
+def pages(root):
+    """README.md and every Markdown page under docs/, in a fixed order."""
+    out = [root / "README.md"] if (root / "README.md").exists() else []
+    return out + sorted((root / "docs").rglob("*.md"))
+
+
 def check(root):
-    readme = (root / "README.md").read_text().splitlines()
     passed, failed, messages = 0, 0, []
     cache = {}
+    for page in pages(root):
+        p, f, m = check_page(root, page, cache)
+        passed, failed = passed + p, failed + f
+        messages += m
+    # Every committed results file has the exact header.
+    for path in sorted((root / "docs" / "results").glob("*.csv")):
+        try:
+            load_results(root, path.stem, cache)
+        except ValueError as e:
+            messages.append(str(e))
+            failed += 1
+    return passed, failed, messages
+
+
+def check_page(root, page, cache):
+    """The checked cells of one Markdown page: (passed, failed, messages)."""
+    page_name = page.relative_to(root).as_posix()
+    readme = page.read_text().splitlines()
+    passed, failed, messages = 0, 0, []
     i = 0
     while i < len(readme):
         mark = MARK.match(readme[i].strip())
         i += 1
         if not mark:
             continue
-        where = f"README.md:{i}"
+        where = f"{page_name}:{i}"
         studies = mark.group(1).split()
         while i < len(readme) and not readme[i].strip():
             i += 1
@@ -148,12 +175,12 @@ def check(root):
                 for s in studies:
                     jobs.update(load_results(root, s, cache))
             except ValueError as e:
-                messages.append(f"README.md:{line_no}: {e}")
+                messages.append(f"{page_name}:{line_no}: {e}")
                 failed += 1
                 continue
             found = select(jobs, selector)
             if len(found) != 1:
-                messages.append(f"README.md:{line_no}: {m.group(1)} selects {len(found)} jobs of "
+                messages.append(f"{page_name}:{line_no}: {m.group(1)} selects {len(found)} jobs of "
                                 f"{' '.join(studies)}, not one")
                 failed += 1
                 continue
@@ -163,13 +190,13 @@ def check(root):
                 if not COMMENT.sub("", cell).strip():
                     continue
                 q = quoted_number(cell)
-                name = COMMENT.sub("", title).strip()
+                title_text = COMMENT.sub("", title).strip()
                 if q is None:
-                    messages.append(f"README.md:{line_no}: column '{name}': '{cell}' has no "
+                    messages.append(f"{page_name}:{line_no}: column '{title_text}': '{cell}' has no "
                                     f"leading number")
                     failed += 1
                 elif metric not in job["metrics"]:
-                    messages.append(f"README.md:{line_no}: job {key[:12]} has no metric "
+                    messages.append(f"{page_name}:{line_no}: job {key[:12]} has no metric "
                                     f"'{metric}'")
                     failed += 1
                 else:
@@ -177,25 +204,21 @@ def check(root):
                     if abs(have - q[0]) <= q[1] * (1 + 1e-9):
                         passed += 1
                     else:
-                        messages.append(f"README.md:{line_no}: column '{name}': quoted "
+                        messages.append(f"{page_name}:{line_no}: column '{title_text}': quoted "
                                         f"{cell!r}, the run ({job['study']} job {key[:12]}) "
                                         f"recorded {metric} = {have:.6g}")
                         failed += 1
         if checked_rows == 0:
             messages.append(f"{where}: a results table without a row of ours (<!-- job: ... -->)")
             failed += 1
-    # Every committed results file has the exact header.
-    for path in sorted((root / "docs" / "results").glob("*.csv")):
-        try:
-            load_results(root, path.stem, cache)
-        except ValueError as e:
-            messages.append(str(e))
-            failed += 1
     return passed, failed, messages
 
 
 def self_test():
-    """The checker on a made-up README: it must pass the right numbers and fail each wrong one."""
+    """The checker on made-up pages: it must pass the right numbers and fail each wrong one.
+
+    Each case is (README text, results CSV, expected outcome[, page]): the table goes into README.md,
+    or into the page named (a docs/ page, as docs/results.md holds the real tables)."""
     import tempfile
     good = """<!-- results: demo -->
 | n | err <!-- err --> | time <!-- cpu_s*1000 --> | ref |
@@ -214,13 +237,18 @@ def self_test():
              (good.replace("**9.19e-03**", "about 9e-3"), csv_text, False),  # text in a metric col
              (good.replace("<!-- err -->", "<!-- err_l2 -->"), csv_text, False),  # no such metric
              (good.replace("<!-- job: n_side=20 kind=a -->", ""), csv_text, False),  # no row
-             (good, csv_text.replace("study,job", "study,key"), False)]  # header
+             (good, csv_text.replace("study,job", "study,key"), False),  # header
+             (good, csv_text, True, "docs/results.md"),  # the same table on a docs page
+             (good.replace("9.19e-03", "9.20e-03"), csv_text, False, "docs/results.md"),
+             (good.replace("12 ms", "13 ms"), csv_text, False, "docs/fam/page.md")]  # nested page
     ok = True
-    for n, (readme, results, expect) in enumerate(cases):
+    for n, (readme, results, expect, *where) in enumerate(cases):
         with tempfile.TemporaryDirectory() as d:
             root = pathlib.Path(d)
             (root / "docs" / "results").mkdir(parents=True)
-            (root / "README.md").write_text(readme)
+            page = root / (where[0] if where else "README.md")
+            page.parent.mkdir(parents=True, exist_ok=True)
+            page.write_text(readme)
             (root / "docs" / "results" / "demo.csv").write_text(results)
             passed, failed, messages = check(root)
             got = failed == 0 and passed > 0

@@ -14,7 +14,7 @@ if [[ $(id -u) -ne 0 ]]; then
 fi
 for b in sbatch squeue scancel slurmctld slurmd munged; do
   if ! command -v "$b" >/dev/null; then
-    echo "SKIPPED: $b not found (scripts/install_deps.sh installs slurm-wlm and munge)"
+    echo "SKIPPED: $b not found (scripts/install_deps.sh --with-slurm installs slurm-wlm and munge)"
     exit 77
   fi
 done

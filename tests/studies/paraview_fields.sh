@@ -9,7 +9,7 @@
 # rendered PNG. Also reads the jobs' HDF5 files with h5py: the series the report reads are there
 # and the root attributes are typed and carry the job key (issue 16 part 2).
 # Skipped (exit 77) only when pvpython, xvfb-run or h5py are missing; scripts/install_deps.sh
-# installs them. Usage: paraview_fields.sh RUNNER SRC [PNG_DIR]
+# --with-paraview installs them. Usage: paraview_fields.sh RUNNER SRC [PNG_DIR]
 RUNNER="$1" SRC="$2" PNG_DIR="${3:-}"
 source "$(dirname "$0")/lib.sh"
 HERE="$SRC/tests/studies"
@@ -17,10 +17,10 @@ PY=/usr/bin/python3 # Debian's, with python3-h5py (not a python3 earlier on PATH
 
 for tool in pvpython xvfb-run; do
   command -v "$tool" >/dev/null ||
-    { echo "SKIP: $tool is not installed (Debian packages paraview python3-paraview xvfb; scripts/install_deps.sh installs them)"; exit 77; }
+    { echo "SKIP: $tool is not installed (Debian packages paraview python3-paraview xvfb; scripts/install_deps.sh --with-paraview installs them)"; exit 77; }
 done
 "$PY" -c "import h5py" 2>/dev/null ||
-  { echo "SKIP: h5py is not installed (Debian package python3-h5py; scripts/install_deps.sh installs it)"; exit 77; }
+  { echo "SKIP: h5py is not installed (Debian package python3-h5py; scripts/install_deps.sh --with-paraview installs it)"; exit 77; }
 
 for s in fields_tgv fields_cylinder; do
   "$RUNNER" "$HERE/$s.toml" --db "$DB" -j 2 --progress plain >"$TMP/$s.log" 2>&1 ||
