@@ -820,7 +820,7 @@ int cmd_converge(const std::filesystem::path& db_path, const ConvergeOptions& c,
           values[k].insert(v.dump()), by_x[k][r.x].insert(v.dump());
   std::vector<std::string> group_keys;
   for (const auto& [k, vs] : values) {
-    if (vs.size() < 2)
+    if (vs.size() < 2 || std::find(c.ignore.begin(), c.ignore.end(), k) != c.ignore.end())
       continue;
     bool function_of_x = true;
     for (const auto& [x, s] : by_x[k])

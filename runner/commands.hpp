@@ -42,6 +42,7 @@ struct ConvergeOptions {
   std::optional<double> formal_order; // stands in for p where only two resolutions exist
   std::string format = "text";        // text, csv or markdown
   std::vector<std::string> where;
+  std::vector<std::string> ignore; // parameters that do not split groups (e.g. t_end)
   std::string published; // read a published record (docs/results/STUDY.csv) instead of the db
 };
 int cmd_converge(const std::filesystem::path& db, const ConvergeOptions& c, std::ostream& out);

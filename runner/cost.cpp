@@ -1,6 +1,10 @@
 // Cost estimates of jobs before they run (cost.hpp).
 #include "cost.hpp"
 
+#include "schemes/scheme.hpp"
+
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,17 +31,56 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Measured seconds per particle-step when the database has nothing to calibrate from.
+// Measured seconds per particle-step when the database has nothing to calibrate from; `param`
+// (if set) must have `value` in the job.
 struct Default {
   const char* case_scheme;
+  const char* param;
+  double value;
   double s_per_particle_step;
   const char* source;
 };
 const Default defaults[] = {
-    // docs/alsph.md, "Cost": a whole step (5 inner iterations, search, shifting, forces) per
-    // particle, 8.1 us (Algorithm 1) and 5.3 us (Algorithm 2) on one core: the mean of the two.
-    {"cylinder_channel/alsph", 6.7e-6, "docs/alsph.md: 8.1 / 5.3 us per particle-step"},
+    // docs/alsph.md, "What a step costs": CPU seconds per particle-step of the recorded D/dx = 10
+    // runs (60 D/U, 15 226 particles, dt U/dx = 5.08e-2, double coefficients), one core.
+    {"cylinder_channel/alsph", "algorithm", 1, 5.06e-6,
+     "Algorithm 1 at D/dx = 10: 5.06 us per particle-step (docs/alsph.md)"},
+    {"cylinder_channel/alsph", "algorithm", 2, 2.10e-6,
+     "Algorithm 2 at D/dx = 10: 2.10 us per particle-step (docs/alsph.md)"},
 };
+
+// The value of a job parameter as JSON text, and the same of a sample's identity parameters
+// (a parameter at its neutral default is absent there: compared as the scheme's default).
+std::string param_text(const ParamValue& v) {
+  return std::visit([](const auto& x) { return nlohmann::json(x).dump(); }, v);
+}
+
+// The samples that share the most scheme parameters with the job (all of them when the scheme
+// has none or no sample records its parameters).
+std::vector<const CostSample*> closest_samples(const JobSpec& job,
+                                               const std::vector<CostSample>& sm) {
+  std::vector<const CostSample*> out;
+  const SchemeInfo* scheme = job.scheme.empty() ? nullptr : find_scheme(job.scheme);
+  int best = -1;
+  for (const CostSample& s : sm) {
+    int same = 0;
+    const nlohmann::json p = nlohmann::json::parse(s.params_json, nullptr, false);
+    if (scheme && p.is_object())
+      for (const ParamSpec& spec : scheme->params) {
+        const auto jv = job.params.find(spec.name);
+        if (jv == job.params.end())
+          continue;
+        const auto it = p.find(spec.name);
+        const std::string sv = it == p.end() ? param_text(spec.default_value) : it->dump();
+        same += nlohmann::json::parse(sv) == nlohmann::json::parse(param_text(jv->second));
+      }
+    if (same > best)
+      best = same, out.clear();
+    if (same == best)
+      out.push_back(&s);
+  }
+  return out;
+}
 
 } // namespace
 
@@ -71,21 +114,24 @@ std::optional<double> estimate_job(const JobSpec& job, const CostSamples& sample
       *how = s;
   };
   if (auto size = cost_size(job)) {
-    std::vector<double> k;
+    std::vector<CostSample> sized;
     for (const auto& s : sm)
       if (s.particles && s.steps && *s.particles > 0 && *s.steps > 0)
-        k.push_back(s.cpu_s / (*s.particles * *s.steps));
+        sized.push_back(s);
+    std::vector<double> k;
+    for (const CostSample* s : closest_samples(job, sized))
+      k.push_back(s->cpu_s / (*s->particles * *s->steps));
     if (!k.empty()) {
       const double kk = median(k);
       std::snprintf(buf, sizeof buf,
-                    "particles x steps x %.3g us per particle-step (median of %zu finished "
-                    "job(s) in the database)",
+                    "particles x steps x %.3g us per particle-step (median of the %zu finished "
+                    "job(s) in the database closest in scheme parameters)",
                     1e6 * kk, k.size());
       say(buf);
       return kk * size->particles * size->steps;
     }
     for (const auto& d : defaults)
-      if (cs == d.case_scheme) {
+      if (cs == d.case_scheme && (!d.param || number(job, d.param) == d.value)) {
         std::snprintf(buf, sizeof buf,
                       "particles x steps x %.3g us per particle-step (%s; nothing finished "
                       "in the database to calibrate from)",

@@ -29,6 +29,8 @@ std::optional<JobSize> cost_size(const JobSpec& job);
 struct CostSample {
   double cpu_s = 0;
   std::optional<double> particles, steps;
+  std::string params_json; // the job's identity parameters: the rate is taken from the samples
+                           // that share the most scheme parameters with the job (algorithm, ...)
 };
 
 struct StudyEstimate {

@@ -229,6 +229,9 @@ int main(int argc, char** argv) {
   converge->add_option("--where", copt.where,
                        "Only jobs with this parameter value, KEY=VALUE (repeatable)");
   converge->add_option("--db", db_converge, "Database file")->capture_default_str();
+  converge->add_option("--ignore", copt.ignore,
+                       "A parameter whose values do not split the groups (repeatable), e.g. "
+                       "--ignore t_end to put runs of different lengths in one sequence");
   converge->add_option("--published", copt.published,
                        "Read a published record (docs/results/STUDY.csv, written by `runner "
                        "publish`) instead of the database");

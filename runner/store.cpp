@@ -745,7 +745,8 @@ Store::cost_samples(const std::vector<std::pair<std::string, std::string>>& case
   std::map<std::string, std::vector<CostSample>> out;
   Stmt q = db_.prepare(
       "SELECT a.cpu_s, (SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='n_particles'), "
-      "(SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='steps') FROM jobs j JOIN "
+      "(SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='steps'), j.params_json FROM "
+      "jobs j JOIN "
       "attempts a ON a.job_id=j.id AND a.attempt=j.attempts WHERE j.case_name=? AND j.scheme=? "
       "AND j.state='done' AND a.cpu_s IS NOT NULL ORDER BY a.finished_at DESC "
       "LIMIT ?");
@@ -753,7 +754,7 @@ Store::cost_samples(const std::vector<std::pair<std::string, std::string>>& case
     auto& v = out[c + "/" + (sch.empty() ? "-" : sch)];
     q.bind(1, c).bind(2, sch).bind(3, static_cast<std::int64_t>(limit));
     while (q.step())
-      v.push_back({q.real(0), q.opt_real(1), q.opt_real(2)});
+      v.push_back({q.real(0), q.opt_real(1), q.opt_real(2), q.text(3)});
     q.reset();
   }
   return out;

@@ -125,3 +125,42 @@ n_side = [40, 60, 80]
   EXPECT_NE(bad.code, 0);
   EXPECT_NE(bad.out.find("n_side"), std::string::npos) << bad.out;
 }
+
+// From a published record (docs/results/STUDY.csv): rows of one study and metric; a parameter that
+// differs between resolutions (here the run length) splits the sequence unless --ignore'd.
+TEST(Convergence, PublishedRecordAndIgnoredParameter) {
+  TempDir dir;
+  std::string csv = "study,job,tier,code_version,params,metric,value\n";
+  const double hs[] = {0.04, 0.02, 0.01};
+  for (int k = 0; k < 3; ++k) {
+    const double f = 1.5 + 0.8 * hs[k] * hs[k];
+    char params[200];
+    std::snprintf(params, sizeof params, R"({""dx"":%g,""t_end"":%d,""form"":""a""})", hs[k],
+                  k == 2 ? 200 : 100);
+    csv += "s,job" + std::to_string(k) + ",full,v,\"" + params + "\",cd," + std::to_string(f) +
+           "\n";
+    csv += "s,job" + std::to_string(k) + ",full,v,\"" + params + "\",other,1\n";
+  }
+  csv += "t,jobx,full,v,\"{\"\"dx\"\":0.5}\",cd,9\n"; // another study: not read
+  write_text(dir / "s.csv", csv);
+  const CmdResult split = run_runner(dir, "converge s --published s.csv --param dx --value cd");
+  ASSERT_EQ(split.code, 0) << split.out;
+  EXPECT_NE(split.out.find("one resolution"), std::string::npos) << split.out;
+  const CmdResult one = run_runner(
+      dir, "converge s --published s.csv --param dx --value cd --ignore t_end --format csv");
+  ASSERT_EQ(one.code, 0) << one.out;
+  std::istringstream in(one.out);
+  std::string line;
+  std::getline(in, line);
+  ASSERT_TRUE(std::getline(in, line)) << one.out;
+  const std::vector<std::string> f = csv_split(line);
+  ASSERT_EQ(f.size(), 8u) << line;
+  EXPECT_EQ(f[1], "0.01 0.02 0.04");
+  EXPECT_NEAR(std::stod(f[4]), 2.0, 1e-3) << line;
+  EXPECT_NEAR(std::stod(f[5]), 1.5, 1e-5) << line;
+  EXPECT_FALSE(std::getline(in, line)) << one.out; // one group
+  // A metric or parameter the record does not have is named.
+  const CmdResult bad = run_runner(dir, "converge s --published s.csv --param dx --value cdd");
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.out.find("did you mean 'cd'"), std::string::npos) << bad.out;
+}
