@@ -24,7 +24,7 @@ numbers and the time to solution are printed.
 Usage (after building the runner; --runner defaults to build/runner of this repository):
   /usr/bin/python3 bench/pysph_tgv.py --nx 100 --tf 5
 Tiny size (the test bench_pysph_tgv; PySPH compiles its generated code on the first run, about
-30 s, cached in ~/.pysph afterwards): --nx 20 --tf 0.05.
+10 s of CPU, cached in ~/.pysph afterwards): --nx 20 --tf 0.05.
 Prints a Markdown table; --json FILE also writes the numbers. Needs python3-pysph
 (apt-get install -y python3-pysph) and Debian's /usr/bin/python3 (it has PySPH's modules).
 """
