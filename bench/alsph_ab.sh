@@ -12,13 +12,15 @@
 # LONG_STEPS=N (> STEPS) also runs every job for N steps, alternated with the short one, and prints
 # the steady-state step: (CPU of N steps - CPU of STEPS steps) / (N - STEPS), per particle, which
 # leaves out what a run pays once (set-up, the first touch of the pair arrays).
+# D_OVER_DX=N sets the resolution (default 20). Tiny size (seconds; the test bench_alsph_ab):
+#   D_OVER_DX=5 LONG_STEPS=4 bench/alsph_ab.sh build/runner build/runner 2 1
 set -euo pipefail
-A="$1" B="$2" STEPS="${3:-40}" REPEATS="${4:-2}"
+A="$1" B="$2" STEPS="${3:-40}" REPEATS="${4:-2}" D_OVER_DX="${D_OVER_DX:-20}"
 LENGTHS="$STEPS${LONG_STEPS:+ $LONG_STEPS}"
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
 for n in $LENGTHS; do
-  t_end=$(awk -v n="$n" 'BEGIN { printf "%.10g", n * 5.08e-2 / 20 }')
+  t_end=$(awk -v n="$n" -v d="$D_OVER_DX" 'BEGIN { printf "%.10g", n * 5.08e-2 / d }')
   for alg in 1 2; do
     for who in A B; do
       extra=""; [ "$who" = B ] && extra="${B_PARAMS:-}"
@@ -29,7 +31,7 @@ case = "cylinder_channel"
 scheme = "alsph"
 [params]
 Re = 200
-D_over_dx = 20
+D_over_dx = $D_OVER_DX
 dt_star = 5.08e-2
 t_end = $t_end
 algorithm = $alg
@@ -47,7 +49,8 @@ for r in $(seq "$REPEATS"); do
       for who in A B; do
         bin="$A"; [ "$who" = B ] && bin="$B"
         db="$TMP/$who$alg-$n-$r.sqlite"
-        "$bin" "$TMP/ab$who$alg-$n.toml" --db "$db" -j 1 --progress plain >/dev/null 2>&1
+        "$bin" "$TMP/ab$who$alg-$n.toml" --db "$db" -j 1 --progress plain >"$db.log" 2>&1 ||
+          { cat "$db.log" >&2; echo "alsph_ab.sh: $bin failed (log above)" >&2; exit 1; }
         "$bin" query --db "$db" "SELECT '$who', $alg, $r,
             max(CASE WHEN metric = 'cpu_us_per_particle_step' THEN value END),
             max(CASE WHEN metric = 'iteration_cpu_us_per_particle' THEN value END),

@@ -24,6 +24,7 @@
 #                                  (full list, gather), from "pressure grad (nbr list)" pairs/s.
 # Ratios are ours / LAMMPS (below 1: we are faster), per alternated pair of runs, and their medians.
 #   bench/lammps_ab.sh [N] [REPEATS]      environment: SKIN, STEPS (LAMMPS run length), LMP, BENCH
+# Tiny size (seconds; the test bench_lammps_ab): STEPS=50 bench/lammps_ab.sh 400 1
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 N="${1:-40000}" REPEATS="${2:-3}"
@@ -32,6 +33,8 @@ LMP="${LMP:-lmp}" BENCH="${BENCH:-$ROOT/build/sph_bench}"
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
 export OMP_NUM_THREADS=1
+command -v "$LMP" >/dev/null ||
+  { echo "lammps_ab.sh: LAMMPS ($LMP) not found (Debian package lammps)" >&2; exit 1; }
 
 side=$(awk -v n="$N" 'BEGIN { printf "%d", int(sqrt(n) + 0.5) }')
 rc=2.6
@@ -61,7 +64,8 @@ run $STEPS
 LMP
 
 run_lammps() {
-  (cd "$TMP" && "$LMP" -in in.pairs -log "$TMP/log.lammps" -screen none)
+  (cd "$TMP" && "$LMP" -in in.pairs -log "$TMP/log.lammps" -screen none) ||
+    { cat "$TMP/log.lammps" >&2; echo "lammps_ab.sh: $LMP failed (log above)" >&2; exit 1; }
   awk -v N="$((side * side))" -v steps="$STEPS" '
     /^Pair  *\|/ { pair = $5 }                 # avg column
     /^Neigh  *\|/ { neigh = $5 }

@@ -8,6 +8,9 @@
 #   bench/one_ab.sh OLD_RUNNER NEW_RUNNER REPEATS CASE [--scheme S] [KEY=VALUE ...]
 # e.g. bench/one_ab.sh old/runner build/runner 3 cylinder_free_stream D_over_dx=20 t_end=10 \
 #        boundary=free_stream domain_length=17 domain_height=8 upstream_length=7 refinement_band=2
+# The size is the case's own parameters; a tiny one (a second; the test bench_one_ab):
+#   bench/one_ab.sh build/runner build/runner 1 cylinder_free_stream D_over_dx=5 t_end=0.1 \
+#     boundary=free_stream domain_length=8 domain_height=4 upstream_length=3
 set -euo pipefail
 A="$1" B="$2" REPEATS="$3"
 shift 3
@@ -18,11 +21,16 @@ echo "binary,run,cpu_us_per_particle_step,steps,neighbour_builds"
 for r in $(seq "$REPEATS"); do
   for who in A B; do
     bin="$A"; [ "$who" = B ] && bin="$B"
-    "$bin" one "$@" --db "$TMP/$who$r.sqlite" --threads-per-job 1 >"$TMP/$who$r.log" 2>&1
+    "$bin" one "$@" --db "$TMP/$who$r.sqlite" --threads-per-job 1 >"$TMP/$who$r.log" 2>&1 ||
+      { cat "$TMP/$who$r.log" >&2; echo "one_ab.sh: $bin failed (log above)" >&2; exit 1; }
     awk -v who="$who" -v r="$r" '
       $1 == "cpu_time_per_step_s" { c = $2 } $1 == "n_particles" { n = $2 }
       $1 == "steps" { s = $2 } $1 == "neighbour_builds" { b = $2 }
-      END { printf "%s,%s,%.4g,%s,%s\n", who, r, 1e6 * c / n, s, b }' "$TMP/$who$r.log"
+      END { if (c == "" || n == "") {
+              print "one_ab.sh: no cpu_time_per_step_s or n_particles among the metrics" > "/dev/stderr"
+              exit 1 }
+            printf "%s,%s,%.4g,%s,%s\n", who, r, 1e6 * c / n, s, b }' "$TMP/$who$r.log" ||
+      { cat "$TMP/$who$r.log" >&2; exit 1; }
   done
 done | tee "$TMP/all.csv"
 awk -F, '{ v[$1] = v[$1] " " $3 }

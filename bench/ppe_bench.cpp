@@ -19,7 +19,8 @@
 //                  [--relax K (down and up)] [--relax-down 3] [--relax-up 4]
 //                  [--relax-coarse 9] [--pmax 4] [--sweeps 1] [--verbose]
 // A variant is solver[:k], k the AMG set-up interval (a new hierarchy every k solves; without
-// :k the solver's adaptive default).
+// :k the solver's adaptive default). Tiny size (a second; the test bench_ppe_bench):
+//   ppe_bench --dx 0.05 --warm 2 --steps 2 --rounds 2 --variants bicgstab_ilu0,bicgstab_amg
 #include "cases/cavity.hpp"
 #include "core/kernels/cubic_spline.hpp"
 #include "schemes/isph/isph.hpp"

@@ -21,8 +21,10 @@ sub-step (two pair loops), with the per-advection-step work (density summation, 
 transport correction, neighbour search) spread over the sub-steps; both per-particle-step
 numbers and the time to solution are printed.
 
-Usage (from the repository root, after building the runner):
-  /usr/bin/python3 bench/pysph_tgv.py --nx 100 --tf 5 --runner build/runner/runner
+Usage (after building the runner; --runner defaults to build/runner of this repository):
+  /usr/bin/python3 bench/pysph_tgv.py --nx 100 --tf 5
+Tiny size (the test bench_pysph_tgv; PySPH compiles its generated code on the first run, about
+10 s of CPU, cached in ~/.pysph afterwards): --nx 20 --tf 0.05.
 Prints a Markdown table; --json FILE also writes the numbers. Needs python3-pysph
 (apt-get install -y python3-pysph) and Debian's /usr/bin/python3 (it has PySPH's modules).
 """
@@ -32,12 +34,14 @@ import glob
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def fit_rate(t, ke, t0):
@@ -68,7 +72,9 @@ def run_pysph(nx, tf, reynolds, perturb, workdir, outputs):
                    key=lambda f: int(re.search(r"_(\d+)\.hdf5$", f).group(1)))
     t, ke, umax = [], [], []
     last = None
+    n_steps = None
     for sd, arr in iter_output(files, "fluid"):
+        n_steps = int(sd["count"])  # the integrator's steps so far (the last output: the run's)
         u, v, m = arr.get("u"), arr.get("v"), arr.get("m")
         t.append(sd["t"])
         ke.append(0.5 * np.sum(m * (u * u + v * v)))
@@ -78,7 +84,6 @@ def run_pysph(nx, tf, reynolds, perturb, workdir, outputs):
     T, x, y, u, v = last
     ue, ve, _ = exact_solution(U, b, T, x, y)
     vm, vme = np.sqrt(u * u + v * v), np.sqrt(ue * ue + ve * ve)
-    n_steps = int(re_find(r"iteration (\d+)", log.split("Writing output")[-1]))
     return dict(t=t, ke=ke, umax=umax, T=T, n=n, steps=n_steps, wall_s=run_s,
                 l1=np.mean(np.abs(vm - vme)) / np.mean(vme), dt=dt)
 
@@ -113,7 +118,8 @@ def main():
     ap.add_argument("--nx", type=int, default=100)
     ap.add_argument("--tf", type=float, default=5.0)
     ap.add_argument("--re", type=float, default=100.0)
-    ap.add_argument("--runner", default="build/runner/runner")
+    ap.add_argument("--runner", default=os.path.join(ROOT, "build", "runner"),
+                    help="our runner binary (default: build/runner of this repository)")
     ap.add_argument("--tvf", default="limited,original",
                     help="our variants, comma-separated (none, original, smoothing_length, limited)")
     ap.add_argument("--perturb", type=float, default=0.3,
@@ -124,9 +130,26 @@ def main():
     ap.add_argument("--json", help="also write the numbers to this file")
     ap.add_argument("--workdir", help="keep outputs here (default: a temporary directory)")
     a = ap.parse_args()
+    if not (os.path.isfile(a.runner) and os.access(a.runner, os.X_OK)):
+        sys.exit("pysph_tgv.py: no runner binary at %s (build it: scripts/build.sh runner; or "
+                 "pass --runner)" % a.runner)
+    if not a.skip_pysph:
+        try:
+            import pysph  # noqa: F401
+        except ImportError:
+            sys.exit("pysph_tgv.py: PySPH is not importable by %s (Debian package python3-pysph; "
+                     "run with /usr/bin/python3)" % sys.executable)
 
     workdir = a.workdir or tempfile.mkdtemp(prefix="pysph_tgv_")
     os.makedirs(workdir, exist_ok=True)
+    try:
+        compare(a, workdir)
+    finally:
+        if not a.workdir:
+            shutil.rmtree(workdir, ignore_errors=True)
+
+
+def compare(a, workdir):
     b = -8.0 * np.pi ** 2 / a.re
     rows = []
     ours = run_ours(a.runner, a.nx, a.tf, a.re, a.perturb, a.tvf.split(","), workdir)

@@ -19,7 +19,8 @@
 // bench/lammps_ab.sh runs LAMMPS beside it.
 // Usage: sph_bench [--n N] [--dim 2|3] [--threads T] [--skin F] [--quick] [--csv]
 //   default: N = 10k, 40k, 160k, both dimensions, 1 thread and all; skin = F x support (0.25,
-//   the wcsph_tvf default); --quick: N = 10k only.
+//   the wcsph_tvf default); --quick: N = 10k only. Tiny size (seconds; the test bench_sph_bench):
+//   sph_bench --n 1000 --threads 1 --csv.
 #include "core/cell_list.hpp"
 #include "core/kernels/wendland_c2.hpp"
 #include "core/lattice.hpp"

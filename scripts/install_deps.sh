@@ -10,7 +10,8 @@
 #                    the test study_paraview_fields)
 #   --with-browser   Chromium (the headless check of report pages; screenshots)
 #   --with-slurm     Slurm and munge (`runner submit --slurm` on a local cluster; the Slurm test)
-#   --tests          GoogleTest and Python 3 (building and running the test suite)
+#   --tests          GoogleTest and Python 3 (building and running the test suite), LAMMPS and
+#                    PySPH (the checks of bench/lammps_ab.sh and bench/pysph_tgv.py)
 #   --all            all of the above (scripts/test.sh: the whole suite, nothing skipped)
 #   --list           print the selected packages, one a line, and install nothing
 set -euo pipefail
@@ -23,7 +24,7 @@ CORE=(
 PARAVIEW=(paraview python3-paraview xvfb xauth libgl1-mesa-dri python3-h5py)
 BROWSER=(chromium)
 SLURM=(slurm-wlm munge)
-TESTS=(libgtest-dev python3)
+TESTS=(libgtest-dev python3 lammps python3-pysph)
 
 PACKAGES=("${CORE[@]}")
 list=0
@@ -35,7 +36,7 @@ for arg in "$@"; do
     --tests) PACKAGES+=("${TESTS[@]}") ;;
     --all) PACKAGES+=("${TESTS[@]}" "${PARAVIEW[@]}" "${BROWSER[@]}" "${SLURM[@]}") ;;
     --list) list=1 ;;
-    -h | --help) sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "install_deps.sh: unknown option '$arg' (--help lists them)" >&2; exit 2 ;;
   esac
 done
