@@ -61,24 +61,45 @@ Convergence self_convergence(std::vector<GridValue> g, std::optional<double> for
   c.oscillatory = ratio < 0;
   const double s = ratio < 0 ? -1.0 : 1.0;
   const double r21 = g2.h / g1.h, r32 = g3.h / g2.h;
-  const double lr21 = std::log(r21);
-  double p = std::abs(std::log(std::abs(ratio))) / lr21;
-  bool converged = std::abs(r21 - r32) < 1e-12 * r21;
-  for (int it = 0; it < 200 && !converged; ++it) {
-    const double num = std::pow(r21, p) - s, den = std::pow(r32, p) - s;
-    if (!(num > 0) || !(den > 0))
-      break;
-    const double next = std::abs(std::log(std::abs(ratio)) + std::log(num / den)) / lr21;
-    converged = std::abs(next - p) < 1e-12 * std::max(1.0, std::abs(p));
-    p = next;
-  }
-  if (!converged || !std::isfinite(p)) {
-    c.note = "the order iteration did not converge";
+  const double lr21 = std::log(r21), lr32 = std::log(r32);
+  // The model f = f0 + C h^p gives |e32/e21| = r21^p (r32^p - s) / (r21^p - s) =: m(p), which
+  // grows with p from m(0) = ln r32 / ln r21 (s = 1) or 1 (s = -1). Celik et al.'s fixed-point
+  // form p = |ln|e32/e21| + q(p)| / ln r21 is solved here as m(p) = |e32/e21| by bisection (the
+  // fixed point does not always converge for unequal ratios), and a ratio at or below m(0),
+  // which that form's absolute value would turn into a positive order, is said instead: the
+  // differences then do not shrink under refinement.
+  auto log_m = [&](double q) {
+    return q * lr21 + std::log((std::pow(r32, q) - s) / (std::pow(r21, q) - s));
+  };
+  const double target = std::log(std::abs(ratio));
+  if (target <= (s > 0 ? std::log(lr32 / lr21) : 0.0)) {
+    c.note = s > 0 ? "the differences do not shrink under refinement: not converging, no order"
+                   : "the oscillations do not shrink under refinement: not converging, no order";
     return c;
   }
+  double lo = 1e-9, hi = 1.0;
+  while (log_m(hi) < target && hi < 1e3)
+    hi *= 2;
+  if (!(log_m(hi) >= target)) {
+    c.note = "no order up to 1000 fits the differences";
+    return c;
+  }
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (log_m(mid) < target ? lo : hi) = mid;
+  }
+  const double p = 0.5 * (lo + hi);
   c.p = p;
   if (c.oscillatory)
     c.note = "oscillatory convergence (the differences change sign)";
+  // An order far above what SPH discretisations reach (at most about 2 in space) means the
+  // coarse runs are outside the asymptotic range: the extrapolation and a small GCI are then not
+  // to be trusted (Celik et al. 2008 advise reporting this rather than the index alone).
+  const double ceiling = formal_p ? 2.0 * *formal_p : 4.0;
+  if (p > ceiling)
+    c.note += std::string(c.note.empty() ? "" : "; ") + "p above " +
+              (formal_p ? "twice the formal order" : "4") +
+              ": not in the asymptotic range, the GCI understates the uncertainty";
   finish(c, g1, g2, p);
   return c;
 }

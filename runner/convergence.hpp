@@ -42,7 +42,9 @@ struct Convergence {
 };
 
 // Self-convergence of the metric itself. `grids` in any order; at least two. With two, `formal_p`
-// (if given) stands in for the observed order and Fs = 3.
+// (if given) stands in for the observed order and Fs = 3. With three or more, an observed order
+// above twice `formal_p` (above 4 without it) is flagged in the note as outside the asymptotic
+// range.
 Convergence self_convergence(std::vector<GridValue> grids, std::optional<double> formal_p = {});
 
 // Order of an error (tends to 0 under refinement). At least two grids.

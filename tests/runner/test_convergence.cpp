@@ -51,6 +51,26 @@ TEST(Convergence, UnequalRatiosAreIteratedToTheTrueOrder) {
   EXPECT_NEAR(*self_convergence(g).p, 1.5, 1e-9);
 }
 
+TEST(Convergence, DifferencesThatGrowUnderRefinementGiveNoOrder) {
+  // C_D of three cylinder runs: 1.611, 1.604, 1.538 at D/dx = 10, 20, 30: the last change is the
+  // largest. |ln|e32/e21|| would make this p = 5.3; it is no convergence at all.
+  const Convergence r = self_convergence({{0.1, 1.611}, {0.05, 1.604}, {1.0 / 30, 1.538}});
+  EXPECT_FALSE(r.p.has_value());
+  EXPECT_NE(r.note.find("not converging"), std::string::npos) << r.note;
+  // The same with equal ratios: f = 1 + h^-0.5 grows as h falls.
+  EXPECT_FALSE(self_convergence(manufactured(1.0, 1.0, -0.5, {0.4, 0.2, 0.1})).p.has_value());
+}
+
+TEST(Convergence, AnOrderOutsideTheAsymptoticRangeIsFlagged) {
+  // A big step from the coarsest grid and almost none after: p = 18, a GCI of 0.003 %.
+  const Convergence r = self_convergence({{0.1, 1.611}, {0.05, 1.540}, {1.0 / 30, 1.538}});
+  ASSERT_TRUE(r.p);
+  EXPECT_GT(*r.p, 4.0);
+  EXPECT_NE(r.note.find("not in the asymptotic range"), std::string::npos) << r.note;
+  // With a formal order of 2 the ceiling is 4; a clean second-order sequence is not flagged.
+  EXPECT_EQ(self_convergence(manufactured(1.0, 0.5, 2.0, {0.1, 0.05, 0.025})).note, "");
+}
+
 TEST(Convergence, OscillatoryAndTwoGridCasesAreSaid) {
   const Convergence osc = self_convergence({{0.1, 1.2}, {0.05, 0.9}, {0.025, 1.05}});
   EXPECT_TRUE(osc.oscillatory);
@@ -137,10 +157,13 @@ TEST(Convergence, PublishedRecordAndIgnoredParameter) {
     char params[200];
     std::snprintf(params, sizeof params, R"({""dx"":%g,""t_end"":%d,""form"":""a""})", hs[k],
                   k == 2 ? 200 : 100);
-    csv += "s,job" + std::to_string(k) + ",full,v,\"" + params + "\",cd," + std::to_string(f) +
-           "\n";
+    csv +=
+        "s,job" + std::to_string(k) + ",full,v,\"" + params + "\",cd," + std::to_string(f) + "\n";
     csv += "s,job" + std::to_string(k) + ",full,v,\"" + params + "\",other,1\n";
   }
+  // Another form at the finest spacing with the shorter run: t_end is then not a function of dx
+  // (which alone would not split a sequence) but a parameter of its own.
+  csv += "s,job3,full,v,\"{\"\"dx\"\":0.01,\"\"t_end\"\":100,\"\"form\"\":\"\"b\"\"}\",cd,2\n";
   csv += "t,jobx,full,v,\"{\"\"dx\"\":0.5}\",cd,9\n"; // another study: not read
   write_text(dir / "s.csv", csv);
   const CmdResult split = run_runner(dir, "converge s --published s.csv --param dx --value cd");
@@ -153,12 +176,17 @@ TEST(Convergence, PublishedRecordAndIgnoredParameter) {
   std::string line;
   std::getline(in, line);
   ASSERT_TRUE(std::getline(in, line)) << one.out;
-  const std::vector<std::string> f = csv_split(line);
+  std::vector<std::string> f = csv_split(line);
+  EXPECT_EQ(f[0], "form=a");
   ASSERT_EQ(f.size(), 8u) << line;
   EXPECT_EQ(f[1], "0.01 0.02 0.04");
   EXPECT_NEAR(std::stod(f[4]), 2.0, 1e-3) << line;
   EXPECT_NEAR(std::stod(f[5]), 1.5, 1e-5) << line;
-  EXPECT_FALSE(std::getline(in, line)) << one.out; // one group
+  ASSERT_TRUE(std::getline(in, line)) << one.out; // form b: one resolution
+  f = csv_split(line);
+  EXPECT_EQ(f[0], "form=b");
+  EXPECT_EQ(f[7], "one resolution");
+  EXPECT_FALSE(std::getline(in, line)) << one.out;
   // A metric or parameter the record does not have is named.
   const CmdResult bad = run_runner(dir, "converge s --published s.csv --param dx --value cdd");
   EXPECT_NE(bad.code, 0);

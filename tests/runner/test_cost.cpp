@@ -155,10 +155,13 @@ TEST(Cost, ARunRecordsEachJobsPredictionBesideItsCostAndLaterEstimatesLearnFromI
   EXPECT_CONTAINS(r.out, "estimate: ");
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE predicted_cpu_s > 0 AND cpu_s > 0"),
             4);
-  // The next study of the same case and scheme is estimated from the two done jobs' rate.
+  // The next study of the same case and scheme is estimated from the done jobs' rate: of the two
+  // (Algorithms 1 and 2), the one that shares its scheme parameters (alsph_iter's quick tier runs
+  // Algorithm 2).
   auto dry = run_runner(dir, "'" + src + "alsph_iter.toml' --tier quick --dry-run");
   ASSERT_EQ(dry.code, 0) << dry.out;
-  EXPECT_CONTAINS(dry.out, "per particle-step (median of 2 finished job(s) in the database)");
+  EXPECT_CONTAINS(dry.out, "per particle-step (median of the 1 finished job(s) in the database "
+                           "closest in scheme parameters)");
 }
 
 // The progress line names running jobs by their varying parameters, not key prefixes.
