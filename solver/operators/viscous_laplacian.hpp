@@ -1,6 +1,8 @@
 // The viscous Laplacian chosen by the study's string (visc = "visc01".."visc04", or "visc03t":
-// VISC-03 with the tensor reading of its factor H_bb^{-1} / kappa, see visc03.hpp), seed 001
-// section 3. Owns the work arrays the corrected forms need (Gamma, tr B, grad u), so a scheme calls
+// VISC-03 with the tensor reading of its factor H_bb^{-1} / kappa, see visc03.hpp; or "visc02p":
+// VISC-02 with the weight of eq. (16) as printed, sign and factor made consistent, visc02.hpp),
+// seed 001 section 3. Owns the work arrays the corrected forms need (Gamma, tr B, grad u), so a
+// scheme calls
 //   lap.prepare(nl, V)     once per particle configuration (Gamma, tr B: VISC-03/03t/04), then
 //   lap.apply(nl, V, u, out) for each field (every call after the first allocates nothing).
 #pragma once
@@ -18,10 +20,11 @@
 namespace sph {
 
 // In the order of visc_names(); new forms are appended so the existing names keep their values.
-enum class ViscForm { Visc01, Visc02, Visc03, Visc04, Visc03Tensor };
+enum class ViscForm { Visc01, Visc02, Visc03, Visc04, Visc03Tensor, Visc02Printed };
 
 inline const std::vector<std::string>& visc_names() {
-  static const std::vector<std::string> names{"visc01", "visc02", "visc03", "visc04", "visc03t"};
+  static const std::vector<std::string> names{"visc01", "visc02",  "visc03",
+                                              "visc04", "visc03t", "visc02p"};
   return names;
 }
 
@@ -45,7 +48,7 @@ public:
   // Per-configuration work: the correction matrix for VISC-03 (both readings) and VISC-04.
   template <class Select = AllParticles>
   void prepare(const NeighborList<D>& nl, const std::vector<double>& V, Select select = {}) {
-    if (form_ == ViscForm::Visc01 || form_ == ViscForm::Visc02)
+    if (form_ == ViscForm::Visc01 || form_ == ViscForm::Visc02 || form_ == ViscForm::Visc02Printed)
       return;
     gamma_.resize(nl.num_particles());
     h_bb_.resize(nl.num_particles());
@@ -65,6 +68,11 @@ public:
     }
     case ViscForm::Visc02: {
       Visc02<D, T, Kernel> op{V, u, kernel_, out};
+      interact(nl, op, select);
+      break;
+    }
+    case ViscForm::Visc02Printed: {
+      Visc02Printed<D, T, Kernel> op{V, u, kernel_, out};
       interact(nl, op, select);
       break;
     }

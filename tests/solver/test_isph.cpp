@@ -90,6 +90,48 @@ TEST(Isph, RestStaysAtRest) {
   EXPECT_LT(pmax - pmin, 1e-9);
 }
 
+// The wall-clearance safety net (step 8 of Isph::step): a fluid particle put 0.3 dx from a wall
+// particle and moving towards it ends the step exactly wall_clearance dx = 0.5 dx from it, without
+// the velocity component towards it, and the step counts one correction
+// (`wall_clearance_corrections`, a metric of every ISPH job); with wall_clearance = 0 nothing
+// moves it and nothing is counted (the step itself moves it by about u dt = 2e-4 dx).
+TEST(Isph, WallClearanceMovesAndCountsTheParticle) {
+  for (double clearance : {0.5, 0.0}) {
+    SCOPED_TRACE("wall_clearance " + std::to_string(clearance));
+    Particles<2> p;
+    CavityGeometry g;
+    g.dx = 0.05, g.U0 = 0.0;
+    const int f = build_cavity(p, g);
+    const Vec2 wall(0.025, -0.025); // the wall particle below the first fluid particle
+    std::int64_t moved = -1;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == Kind::Fluid && (p.r[i] - Vec2(0.025, 0.025)).norm() < 1e-12) {
+        p.r[i] = wall + Vec2(0.0, 0.3 * g.dx);
+        p.v[i] = Vec2(0.0, -0.1);
+        moved = p.id[i];
+      }
+    ASSERT_GE(moved, 0);
+    CubicSpline<2> W(1.2 * g.dx);
+    IsphOptions opt;
+    opt.shifting = false;
+    opt.alpha_ppe = 0.0;
+    opt.wall_clearance = clearance;
+    Isph<2, CubicSpline<2>> s(p, Domain<2>{}, W, opt, f, 1e-3, 1e-4, g.dx);
+    s.step();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.id[i] == moved) {
+        const Vec2 d = p.r[i] - wall;
+        if (clearance > 0.0) {
+          EXPECT_NEAR(d.norm(), 0.5 * g.dx, 1e-12);
+          EXPECT_GE(p.v[i].dot(d / d.norm()), -1e-12);
+        } else {
+          EXPECT_NEAR(d.norm(), 0.3 * g.dx, 1e-3 * g.dx);
+        }
+      }
+    EXPECT_EQ(s.clearance_corrections(), clearance > 0.0 ? 1 : 0);
+  }
+}
+
 // The projection removes a pure gradient field: u* = grad phi, phi = eps cos(pi x) cos(pi y), has
 // zero normal velocity on the walls, so the exact projection is u = 0 and P = rho phi / dt. The
 // discrete projection must remove most of it; UMFPACK and BiCGSTAB (ILUT, ILU(0), Jacobi) must give

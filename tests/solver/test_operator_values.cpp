@@ -125,7 +125,7 @@ struct Lattice {
 // alone, not through the operators): S1 = -sum V r dW (= tr B, -> D in the continuum), S2 =
 // sum V lap W r^2 (-> 2 D), lap W = d2W + (D - 1) dW / r.
 struct LatticeSums {
-  double S1 = 0.0, S2 = 0.0;
+  double S1 = 0.0, S2 = 0.0, S3 = 0.0;
 };
 LatticeSums lattice_sums_2d(const CubicSpline<2>& W, double dx) {
   LatticeSums s;
@@ -137,6 +137,7 @@ LatticeSums lattice_sums_2d(const CubicSpline<2>& W, double dx) {
       const double r = dx * std::hypot(a, b), V = dx * dx;
       s.S1 -= V * r * W.dW(r);
       s.S2 += V * (W.d2W(r) + W.dW(r) / r) * r * r;
+      s.S3 += V * (W.d2W(r) - W.dW(r) / r) * r * r;
     }
   return s;
 }
@@ -183,7 +184,8 @@ TEST(KernelValues, WendlandC2) {
 // odd-moment contribution (the lattice is point-symmetric) and no error above second order, so
 //   VISC-01 = 2 sum V (r dW / r^2) (-1/2 r^T H r) = tr H  S1 / D,
 //   VISC-02 = sum V lap W (1/2 r^T H r)          = tr H  S2 / (2 D),
-// with S1, S2 the lattice sums above (the lattice's quadrature factors, 1 in the continuum),
+//   visc02p = 2 / (D + 2) sum V (W'' - W'/r) (1/2 r^T H r) = tr H  S3 / (D (D + 2)),
+// with S1, S2, S3 the lattice sums above (the lattice's quadrature factors, 1 in the continuum),
 // exactly up to round-off (tolerance 1e-10 relative). A factor or sign error in either operator
 // changes the result by O(1).
 TEST(ViscValues, Visc01And02OnQuadraticEqualTheQuadratureFactorOnUniformLattice) {
@@ -196,12 +198,15 @@ TEST(ViscValues, Visc01And02OnQuadraticEqualTheQuadratureFactorOnUniformLattice)
   // a few % of the continuum (a value to compare against, not a tolerance of the operators).
   EXPECT_NEAR(s.S1 / 2, 1.0, 0.05);
   EXPECT_NEAR(s.S2 / 4, 1.0, 0.1);
+  EXPECT_NEAR(s.S3 / 8, 1.0, 0.1);
   const auto l1 = L.laplacian(ViscForm::Visc01, f);
   const auto l2 = L.laplacian(ViscForm::Visc02, f);
+  const auto l2p = L.laplacian(ViscForm::Visc02Printed, f);
   for (std::size_t i = 0; i < L.p.size(); ++i)
     if (L.fluid(i)) {
       ASSERT_NEAR(l1[i], trH * s.S1 / 2, 1e-10 * trH) << i;
       ASSERT_NEAR(l2[i], trH * s.S2 / 4, 1e-10 * trH) << i;
+      ASSERT_NEAR(l2p[i], trH * s.S3 / 8, 1e-10 * trH) << i;
     }
 }
 
