@@ -590,8 +590,9 @@ struct WallPressureReaction {
   const Particles<D>& p;
   const std::vector<Mat<D>>* B; // nullptr: identity
   const std::vector<Vec<D>>& f_prior;
-  const Vec<D>* a_wall;   // nullptr: walls at rest
-  std::vector<Vec<D>>& f; // out, wall rows
+  const Vec<D>* a_wall;            // nullptr: walls at rest
+  std::vector<Vec<D>>& f;          // out, wall rows
+  double wall_extrapolation = 1.0; // as FirstHalf's
 
   struct Acc {
     Vec<D> f = Vec<D>::Zero();
@@ -602,7 +603,7 @@ struct WallPressureReaction {
     if (p.kind[k] != Kind::Fluid)
       return;
     const Vec<D> e_aw = -q.r_ij / q.r;
-    const double pw = wall_pressure(p, f_prior, a_wall, k, w, q.r, e_aw);
+    const double pw = wall_pressure(p, f_prior, a_wall, k, w, q.r, e_aw, wall_extrapolation);
     const Vec<D> gw = (p.V[w] * q.dW) * e_aw; // V_w grad_a W_aw
     const Vec<D> t = B ? Vec<D>((*B)[k] * gw) : gw;
     a.f += (p.V[k] * (p.p[k] + pw)) * t;
@@ -871,6 +872,7 @@ public:
     interact(nl_, fv, fluid_only());
     ops::FirstHalf<D> fp{p_,    B,        wf_prior_, nullptr, 0.0, 1.0 / (o_.rho0 * o_.c0),
                          wf_p_, wf_drho_, true};
+    fp.wall_extrapolation = o_.wall_extrapolation ? 1.0 : 0.0;
     interact(nl_, fp, fluid_only());
     ops::SecondHalf<D> fd{p_, v_wall(), o_, o_.rho0 * o_.c0, wf_drho_, wf_diss_, true};
     interact(nl_, fd, fluid_only());
@@ -1125,7 +1127,8 @@ private:
         });
       }
       if (coupled()) { // the impulse the fluid's kick takes from each wall, reversed
-        ops::WallPressureReaction<D> op{p_, B(), f_prior_, a_wall(), w_p_};
+        ops::WallPressureReaction<D> op{p_,       B(),  f_prior_,
+                                        a_wall(), w_p_, o_.wall_extrapolation ? 1.0 : 0.0};
         interact(nl_, op, walls_only());
 #pragma omp parallel for schedule(static)
         for (std::size_t i = 0; i < N; ++i)
