@@ -37,6 +37,18 @@ const ParamTable<Options>& table() {
               "(Zhang 2017)")
           .boolean("kernel_correction", &Options::kernel_correction,
                    "linear kernel-gradient correction B in the pressure force and the TVF residue")
+          .boolean("shift_velocity", &Options::shift_velocity,
+                   "tvf = smoothing_length / limited: carry the velocity along the TVF shift, "
+                   "v_i += (grad v_i) Delta r_i (a Taylor correction, not in seed 002)")
+          .boolean("riemann_density", &Options::riemann_density,
+                   "the continuity's Riemann term rho_i sum_j (p_i - p_j) / (rho0 c0) V_j dW_ij "
+                   "(1st half; SPHinXsys: on)")
+          .boolean("wall_extrapolation", &Options::wall_extrapolation,
+                   "wall pressure p_w = p_i + rho_i r_iw max(0, (F_prior_i / m_i) . (-e_iw)); "
+                   "false: p_w = p_i")
+          .boolean("substep_pairs", &Options::substep_pairs,
+                   "pair geometry (r_ij, W_ij, dW_ij) of the current positions at every acoustic "
+                   "sub-step instead of frozen over the advection step (SPHinXsys: frozen)")
           .string("kernel", &Options::kernel, "smoothing kernel",
                   {"wendland_c2", "cubic_spline", "quintic_spline"})
           .real("h_over_dx", &Options::h_over_dx, "smoothing length h / particle spacing dx",
@@ -173,6 +185,10 @@ SchemeInfo make_wcsph_tvf_scheme() {
   s.description = "Riemann WCSPH, dual-criteria time stepping and transport-velocity correction "
                   "with limiter (Wang, Haidn & Hu, arXiv:2411.13992, seed 002)";
   s.params = wcsph_tvf::table().specs();
+  for (auto& spec : s.params)
+    if (spec.name == "shift_velocity" || spec.name == "riemann_density" ||
+        spec.name == "wall_extrapolation" || spec.name == "substep_pairs")
+      spec.neutral_default = true; // added later: the jobs without it keep their keys
   s.free_stream = true;
   s.moving_bodies = true;
   s.make2 = &wcsph_tvf::make<2>;

@@ -22,6 +22,8 @@
 //                        g_i  = -sum_j (B_i + B_j) V_j dW_ij e_ij     (B = I without correction)
 //                        psi_i = min(kappa h^2 |g_i|^2, 1) (limited), 1 (smoothing_length)
 //                        r_i += alpha h^2 psi_i g_i,   alpha = 0.2, kappa = 100
+//                      shift_velocity (option, not in seed 002): then v_i += (grad v_i) Delta r_i,
+//                        grad v_i = sum_j V_j (v_j - v_i) (x) B_i grad_i W_ij (ops::ShiftVelocity)
 //                      tvf = original (Adami, Hu & Adams 2013, eq. 13; eq. 12 of seed 002):
 //                        a~_i = -(p_b / m_i) sum_j (V_i^2 + V_j^2) dW_ij e_ij, p_b = f_pb rho0
 //                        c0^2, used by the kick-drift-kick transport of every acoustic sub-step
@@ -47,6 +49,11 @@
 //     step, so each sub-step moves the particle by an extra dt^2/2 a~_i), whose momentum equation
 //     also gets the extra stress A = rho v (x) (vt - v):  F^A_i = -V_i sum_j V_j (A_i + A_j) .
 //     grad_i W_ij
+//     Switches that change one piece of SPHinXsys' scheme, to separate error sources (defaults:
+//     SPHinXsys'): riemann_density = false drops the 1st half's drho term; wall_extrapolation =
+//     false sets p_w = p_i; substep_pairs = true recomputes r_ij, W, dW (not V_j) from the current
+//     positions at every sub-step (candidates from a Verlet list rebuilt every step, with a skin of
+//     at least half the support; a particle moving further within a step stops the run).
 //   neighbours         wrap periodic axes; when a particle has moved more than skin/2 since the
 //                      last build, sort by cell and rebuild the Verlet list (cutoff = support +
 //                      skin, core/verlet_list.hpp); the pair geometry (r_ij, r, W, dW of the
@@ -135,6 +142,14 @@ struct Options {
   double tvf_kappa = 100.0;  // slope of the limiter, eq. (15)
   double pb_factor = 1.0;    // original TVF: p_b = pb_factor rho0 c0^2
   double viscous_eps = 0.01; // r_ij + eps h in the viscous force
+
+  // Switches that leave out or add one piece of SPHinXsys' scheme (defaults: SPHinXsys'), to
+  // separate error sources (docs/tvf.md):
+  bool shift_velocity = false;    // v_i += (grad v_i) Delta r_i after the TVF shift (ShiftVelocity)
+  bool riemann_density = true;    // 1st half: drho_i = rho_i sum (p_i - p_j)/(rho0 c0) V_j dW_ij
+  bool wall_extrapolation = true; // p_w = p_i + rho_i r max(0, a . (-e)); false: p_w = p_i
+  bool substep_pairs = false;     // the pairs of the current positions at every sub-step
+
   // Verlet skin as a fraction of the support (of the coarsest with two levels; not a job parameter:
   // it changes the cost and the particle order, so results by round-off only). 0.25 by measurement:
   // Taylor-Green n = 100, 205 advection steps, 1 thread, CPU per step relative to skin 0 (a search
@@ -305,9 +320,9 @@ inline Vec<D> partner_velocity(const Particles<D>& p, const Vec<D>* v_wall, std:
 template <int D>
 inline double wall_pressure(const Particles<D>& p, const std::vector<Vec<D>>& f_prior,
                             const Vec<D>* a_wall, std::size_t a, std::size_t w, double r,
-                            const Vec<D>& e) {
+                            const Vec<D>& e, double extrapolation = 1.0) {
   const Vec<D> a_rel = a_wall ? Vec<D>(f_prior[a] / p.m[a] - a_wall[w]) : f_prior[a] / p.m[a];
-  return p.p[a] + p.rho[a] * r * std::max(0.0, a_rel.dot(-e));
+  return p.p[a] + extrapolation * p.rho[a] * r * std::max(0.0, a_rel.dot(-e));
 }
 
 // Viscous force F^nu_i = V_i sum_j 2 mu (v_i - v_j) / (r_ij + eps h) V_j dW_ij [notes 2d].
@@ -354,6 +369,32 @@ struct TvfResidue {
       a.g -= ((*B)[i] + (*B)[q.j]) * gw;
   }
   void finish(std::size_t i, const Acc& a) { g[i] = a.g; }
+};
+
+// Velocity of a particle moved by the TVF shift, carried to its new place by a first-order Taylor
+// expansion (Xu, Stansby & Laurence, JCP 228 (2009) 6703; Lind, Xu, Stansby & Rogers, JCP 231
+// (2012) 1499): v_i += (grad v_i) Delta r_i, grad v_i = sum_j V_j (v_j - v_i) (x)
+// B_i grad_i W_ij (B = I without kernel correction; walls with v_w* = 2 v_wall - v_i). Not in
+// seed 002, whose shift (eq. 16) leaves v_i as it is: an option that measures what that costs.
+template <int D>
+struct ShiftVelocity {
+  const Particles<D>& p;
+  const Vec<D>* v_wall;
+  const std::vector<Mat<D>>* B; // nullptr: identity
+  const std::vector<Vec<D>>& shift;
+  std::vector<Vec<D>>& dv;
+
+  struct Acc {
+    Vec<D> dv = Vec<D>::Zero();
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
+    Vec<D> gw = (p.V[q.j] * q.dW / q.r) * q.r_ij; // V_j grad_i W_ij
+    if (B)
+      gw = (*B)[i] * gw;
+    a.dv += gw.dot(shift[i]) * (partner_velocity(p, v_wall, i, q.j) - p.v[i]);
+  }
+  void finish(std::size_t i, const Acc& a) { dv[i] = a.dv; }
 };
 
 // Background-pressure acceleration of the original TVF (Adami et al. 2013, eq. 13):
@@ -422,6 +463,7 @@ struct FirstHalf {
   bool walls_only = false;              // the wall partners' share only (force_on_walls)
   const Vec<D>* a_wall = nullptr;       // wall accelerations (moving bodies), nullptr: at rest
   const AcousticPairs<D>* ap = nullptr; // the indexed pairs' coefficients
+  double wall_extrapolation = 1.0;      // 0: p_w = p_i (Options::wall_extrapolation false)
 
   struct Acc {
     Vec<D> f = Vec<D>::Zero();
@@ -447,7 +489,7 @@ struct FirstHalf {
     }
     double pj = p.p[j];
     if (wall)
-      pj = wall_pressure(p, f_prior, a_wall, i, j, r(), e);
+      pj = wall_pressure(p, f_prior, a_wall, i, j, r(), e, wall_extrapolation);
     const Vec<D> gw = VdW * e; // V_j grad_i W_ij
     if (!B)
       a.f -= (p.p[i] + pj) * gw;
@@ -548,8 +590,9 @@ struct WallPressureReaction {
   const Particles<D>& p;
   const std::vector<Mat<D>>* B; // nullptr: identity
   const std::vector<Vec<D>>& f_prior;
-  const Vec<D>* a_wall;   // nullptr: walls at rest
-  std::vector<Vec<D>>& f; // out, wall rows
+  const Vec<D>* a_wall;            // nullptr: walls at rest
+  std::vector<Vec<D>>& f;          // out, wall rows
+  double wall_extrapolation = 1.0; // as FirstHalf's
 
   struct Acc {
     Vec<D> f = Vec<D>::Zero();
@@ -560,7 +603,7 @@ struct WallPressureReaction {
     if (p.kind[k] != Kind::Fluid)
       return;
     const Vec<D> e_aw = -q.r_ij / q.r;
-    const double pw = wall_pressure(p, f_prior, a_wall, k, w, q.r, e_aw);
+    const double pw = wall_pressure(p, f_prior, a_wall, k, w, q.r, e_aw, wall_extrapolation);
     const Vec<D> gw = (p.V[w] * q.dW) * e_aw; // V_w grad_a W_aw
     const Vec<D> t = B ? Vec<D>((*B)[k] * gw) : gw;
     a.f += (p.V[k] * (p.p[k] + pw)) * t;
@@ -735,8 +778,10 @@ private:
       return;
     }
     const double support = kernel_.support();
+    // substep_pairs: half the support as skin (a step moves a particle by ~0.25 h)
+    const double skin = o_.substep_pairs ? std::max(o_.skin, 0.5) : o_.skin;
     vl_ = std::make_unique<VerletList<D>>(
-        box_, support, VerletList<D>::largest_skin(box_, support, o_.skin * support));
+        box_, support, VerletList<D>::largest_skin(box_, support, skin * support));
   }
 
 public:
@@ -827,6 +872,7 @@ public:
     interact(nl_, fv, fluid_only());
     ops::FirstHalf<D> fp{p_,    B,        wf_prior_, nullptr, 0.0, 1.0 / (o_.rho0 * o_.c0),
                          wf_p_, wf_drho_, true};
+    fp.wall_extrapolation = o_.wall_extrapolation ? 1.0 : 0.0;
     interact(nl_, fp, fluid_only());
     ops::SecondHalf<D> fd{p_, v_wall(), o_, o_.rho0 * o_.c0, wf_drho_, wf_diss_, true};
     interact(nl_, fd, fluid_only());
@@ -852,7 +898,7 @@ private:
   ops::AcousticPairs<D> ap_; // the sub-steps' pair coefficients (acoustic_pairs)
   std::vector<double> sumW_, traceB_;
   std::vector<Mat<D>> B_;
-  std::vector<Vec<D>> f_prior_, force_, g_, shift_, a_tilde_;
+  std::vector<Vec<D>> f_prior_, force_, g_, shift_, a_tilde_, dv_;
   long acoustic_steps_ = 0;
   double a_last_max_ = 0.0; // max_i |F_prior_i + F^diss_i| / m_i at the end of the last step
   double h_min_ = 1.0;      // smallest smoothing length (time steps)
@@ -891,8 +937,23 @@ private:
     neighbour_search();
   }
   void neighbour_search() {
-    vl_->update(p_);
+    // substep_pairs: a fresh candidate list every step, so that the sub-steps' pairs (from these
+    // candidates) stay complete while no particle moves more than skin/2 within the step.
+    if (!vl_->update(p_) && o_.substep_pairs)
+      vl_->rebuild(p_);
     pair_geometry();
+  }
+  // substep_pairs: r_ij, W, dW of the current positions from the candidates of the step's list,
+  // and the sub-steps' coefficients (V_j stays that of the density summation).
+  void substep_geometry() {
+    if (vl_->max_displacement2(p_.r) > 0.25 * vl_->skin() * vl_->skin())
+      throw std::runtime_error("wcsph_tvf: substep_pairs: a particle moved more than half the "
+                               "Verlet skin within one advection step");
+    if (variable())
+      nl_.build(*vl_, p_.r, kernel_, p_.scalar(f_.h));
+    else
+      nl_.build(*vl_, p_.r, kernel_);
+    acoustic_pairs();
   }
   void pair_geometry() {
     if (variable())
@@ -990,6 +1051,14 @@ private:
       tv = std::max(tv, shift_[i].norm());
     }
     info.tv_max = tv / dt_tv_;
+    if (o_.shift_velocity) { // the velocity follows the shift (on the pairs before it)
+      dv_.resize(N);
+      ops::ShiftVelocity<D> sv{p_, v_wall(), B(), shift_, dv_};
+      interact(nl_, sv, fluid_only());
+      for (std::size_t i = 0; i < N; ++i)
+        if (fluid(i))
+          p_.v[i] += dv_[i];
+    }
   }
 
   // e_ij and V_j dW_ij of the fluid rows, for the sub-steps (V_j is frozen until the next density
@@ -1020,9 +1089,12 @@ private:
     const double rho0c0 = o_.rho0 * o_.c0;
     if (coupled())
       std::fill(w_impulse_.begin(), w_impulse_.end(), Vec<D>::Zero());
+    const double inv_r0c0 = o_.riemann_density ? 1.0 / rho0c0 : 0.0;
     acoustic_pairs();
     double tau = 0.0;
     while (tau < Dt * (1.0 - 1e-12)) {
+      if (o_.substep_pairs) // the pairs of the current positions (the list's candidates)
+        substep_geometry();
       const double dt = std::min(acoustic_dt(), Dt - tau);
       const double half = 0.5 * dt;
       // 1st half: density and pressure at the half step, drift, pressure force, kick.
@@ -1046,15 +1118,17 @@ private:
         hooks_.buffer_pressure(p_, nl_);
       {
         with_walls([&](auto walls) {
+          // riemann_density false: the U* jump term's coefficient is zero (drho = 0 exactly)
           ops::FirstHalf<D, decltype(walls)::value> op{
-              p_,    B(),          f_prior_, original ? &a_tilde_ : nullptr,
-              half,  1.0 / rho0c0, force_,   drho,
-              false, a_wall(),     &ap_};
+              p_,    B(),      f_prior_, original ? &a_tilde_ : nullptr,
+              half,  inv_r0c0, force_,   drho,
+              false, a_wall(), &ap_,     o_.wall_extrapolation ? 1.0 : 0.0};
           interact_indexed(nl_, op, fluid_only());
         });
       }
       if (coupled()) { // the impulse the fluid's kick takes from each wall, reversed
-        ops::WallPressureReaction<D> op{p_, B(), f_prior_, a_wall(), w_p_};
+        ops::WallPressureReaction<D> op{p_,       B(),  f_prior_,
+                                        a_wall(), w_p_, o_.wall_extrapolation ? 1.0 : 0.0};
         interact(nl_, op, walls_only());
 #pragma omp parallel for schedule(static)
         for (std::size_t i = 0; i < N; ++i)
