@@ -135,6 +135,8 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       s->resume();
       at.steps = static_cast<long>(st->step), at.t = st->time;
       resumed = io::resumed_message(at.t, ctx.attempt);
+    } else {
+      resumed = ck.rejection(); // a checkpoint it could not continue: why it started again
     }
   }
   io::ParticleSnapshots<D> snaps(ctx.output_dir, output_interval(prm), p, flow.h, s->h(), at.t,
