@@ -648,14 +648,35 @@ void Store::record_attempt(std::int64_t job_id, int attempt, const Finish& f) {
   else
     a.bind(11, f.failure_class);
   a.bind(12, job_id).bind(13, attempt).run();
-  Stmt d = db_.prepare("DELETE FROM metrics WHERE job_id=?");
-  d.bind(1, job_id).run();
-  Stmt m = db_.prepare("INSERT OR REPLACE INTO metrics(job_id, name, value, attempt, ordinal) "
-                       "VALUES(?,?,?,?,?)");
-  for (std::size_t k = 0; k < f.metrics.size(); ++k) {
-    // SQLite stores NaN as NULL; infinities are kept.
-    m.bind(1, job_id).bind(2, f.metrics[k].first).bind(3, f.metrics[k].second);
-    m.bind(4, attempt).bind(5, static_cast<std::int64_t>(k)).run();
+  auto insert_metrics = [&](const std::string& table) {
+    Stmt m = db_.prepare("INSERT OR REPLACE INTO " + table +
+                         "(job_id, name, value, attempt, ordinal) VALUES(?,?,?,?,?)");
+    for (std::size_t k = 0; k < f.metrics.size(); ++k) {
+      // SQLite stores NaN as NULL; infinities are kept.
+      m.bind(1, job_id).bind(2, f.metrics[k].first).bind(3, f.metrics[k].second);
+      m.bind(4, attempt).bind(5, static_cast<std::int64_t>(k)).run();
+    }
+  };
+  insert_metrics("attempt_metrics");
+  // The result the job holds: the attempt whose metrics are in `metrics`, if done or diverged.
+  std::optional<JobState> held;
+  {
+    Stmt q = db_.prepare("SELECT a.state FROM attempts a WHERE a.job_id=?1 AND a.attempt<>?2 AND "
+                         "a.attempt=(SELECT max(m.attempt) FROM metrics m WHERE m.job_id=?1)");
+    q.bind(1, job_id).bind(2, attempt);
+    if (q.step())
+      if (auto st = parse_job_state(q.text(0)); st && holds_result(*st))
+        held = *st;
+  }
+  const bool takes_over = !held || f.state == JobState::done ||
+                          (f.state == JobState::diverged && *held != JobState::done);
+  if (takes_over) {
+    Stmt d = db_.prepare("DELETE FROM metrics WHERE job_id=?");
+    d.bind(1, job_id).run();
+    insert_metrics("metrics");
+  } else {
+    Stmt u = db_.prepare("UPDATE jobs SET state=? WHERE id=?");
+    u.bind(1, to_string(*held)).bind(2, job_id).run();
   }
 }
 
@@ -746,7 +767,8 @@ Store::cost_samples(const std::vector<std::pair<std::string, std::string>>& case
   Stmt q = db_.prepare(
       "SELECT a.cpu_s, (SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='n_particles'), "
       "(SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='steps') FROM jobs j JOIN "
-      "attempts a ON a.job_id=j.id AND a.attempt=j.attempts WHERE j.case_name=? AND j.scheme=? "
+      "attempts a ON a.job_id=j.id AND a.attempt=j.attempts AND a.state='done' WHERE "
+      "j.case_name=? AND j.scheme=? "
       "AND j.state='done' AND a.cpu_s IS NOT NULL ORDER BY a.finished_at DESC "
       "LIMIT ?");
   for (const auto& [c, sch] : case_schemes) {

@@ -218,7 +218,7 @@ struct Submission {
 
 class Store {
 public:
-  static constexpr int schema_version = 5;
+  static constexpr int schema_version = 6;
   // PRAGMA application_id of a runner database: 'SPHR'.
   static constexpr std::int64_t application_id = 0x53504852;
 
@@ -280,6 +280,10 @@ public:
 
   // Records a finished attempt: attempt row, metrics and job state in one transaction.
   // false when the job is no longer ours (reset as stale by another runner): nothing written.
+  // The attempt's metrics always go to attempt_metrics. They become the job's result (metrics,
+  // state) when it is done, or diverged while the job holds no done result; otherwise the job
+  // keeps the result it holds and its state (a recomputation that fails or diverges never takes
+  // a result away; the attempt row says what happened).
   bool finish(std::int64_t job_id, int attempt, const std::string& host, int pid, const Finish& f);
 
   // Records the outcome of a job handed to Slurm (state `submitted`, attempt `attempt`); the
