@@ -624,7 +624,12 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   std::map<std::string, std::vector<std::string>> new_rows;
   std::vector<std::string> new_order;
   std::size_t stale = 0;
+  std::set<std::string> retired; // jobs of earlier versions of the study file only
   for (const StudyJob& j : store.study_jobs(sid, std::nullopt, false, solver_fingerprint())) {
+    if (j.tiers.empty()) { // in no tier of the current expansion: export and status hide it too
+      retired.insert(j.key);
+      continue;
+    }
     if ((j.state != JobState::done && j.state != JobState::diverged) || !metrics.count(j.id))
       continue;
     const auto v = versions.find(j.id);
@@ -640,8 +645,12 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   }
   std::ostringstream text;
   text << publish_header << "\n";
-  std::size_t kept = 0, replaced = 0, added = 0;
+  std::size_t kept = 0, replaced = 0, added = 0, removed = 0;
   for (const auto& key : order) {
+    if (retired.count(key)) {
+      ++removed;
+      continue;
+    }
     const auto it = new_rows.find(key);
     const auto& rows = it == new_rows.end() ? old_rows[key] : it->second;
     (it == new_rows.end() ? kept : replaced) += 1;
@@ -657,6 +666,8 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   write_file_atomic(out_file, text.str());
   log << out_file.string() << ": " << added << " jobs added, " << replaced << " replaced, " << kept
       << " kept from the file";
+  if (removed)
+    log << ", " << removed << " removed (no longer in the study: its file changed)";
   if (stale)
     log << "; " << stale << " of the database's jobs are stale (made by other solver code than "
         << "this build's; their code_version says which)";

@@ -104,3 +104,41 @@ TEST(LongJobs, AFailingRetryKeepsTheDivergedResult) {
                         "metric='injected_nan'"),
             4);
 }
+
+// Jobs retired by a change of the study file (still in the database, hidden by export and
+// status) are not published, and leave a file that had them.
+TEST(LongJobs, PublishLeavesOutJobsRetiredByAChangedStudyFile) {
+  TempDir dir;
+  write_text(dir / "s.toml", patch_study("ret"));
+  ASSERT_EQ(run_runner(dir, "s.toml").code, 0);
+  auto first = run_runner(dir, "publish ret --out pub.csv");
+  ASSERT_EQ(first.code, 0) << first.out;
+  EXPECT_CONTAINS(first.out, "4 jobs added");
+  write_text(dir / "s.toml", "[study]\nname = \"ret\"\ncase = \"patch_test\"\n[sweep]\nvisc = "
+                             "[\"visc01\", \"visc03\"]\nn_side = [8]\n");
+  ASSERT_EQ(run_runner(dir, "s.toml").code, 0);
+  const std::string exported = run_runner(dir, "export ret --format csv").out;
+  auto again = run_runner(dir, "publish ret --out pub.csv");
+  ASSERT_EQ(again.code, 0) << again.out;
+  EXPECT_CONTAINS(again.out, "0 jobs added, 2 replaced, 0 kept from the file, 2 removed");
+  auto fresh = run_runner(dir, "publish ret --out fresh.csv");
+  EXPECT_CONTAINS(fresh.out, "2 jobs added, 0 replaced, 0 kept");
+  // The same jobs as export: two of them.
+  std::set<std::string> published;
+  std::istringstream rows(read_file(dir / "fresh.csv"));
+  std::string line;
+  std::getline(rows, line);
+  while (std::getline(rows, line))
+    published.insert(line.substr(4, 64)); // "ret,<key>,..."
+  EXPECT_EQ(published.size(), 2u);
+  for (const auto& key : published)
+    EXPECT_CONTAINS(exported, key);
+  auto sorted_lines = [](const std::string& text) {
+    std::multiset<std::string> out;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);)
+      out.insert(l);
+    return out;
+  };
+  EXPECT_EQ(sorted_lines(read_file(dir / "pub.csv")), sorted_lines(read_file(dir / "fresh.csv")));
+}
