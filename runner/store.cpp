@@ -918,7 +918,7 @@ std::vector<StudyJob> Store::study_jobs(std::int64_t study_id,
     j.state = job_state_from(q.text(2));
     j.scheme = q.text(3);
     j.params_json = q.text(4);
-    j.output_dir = q.is_null(5) ? "" : q.text(5);
+    j.output_dir = q.is_null(5) ? "" : job_folder(q.text(5));
     j.stale = q.integer(6) != 0;
     std::string tiers = q.is_null(7) ? "" : q.text(7);
     for (std::size_t a = 0; a < tiers.size();) {
@@ -931,6 +931,14 @@ std::vector<StudyJob> Store::study_jobs(std::int64_t study_id,
     out.push_back(std::move(j));
   }
   return out;
+}
+
+std::string Store::job_folder(const std::string& recorded) const {
+  const fs::path p(recorded);
+  if (p.empty() || p.is_absolute())
+    return recorded;
+  const fs::path base = path_.parent_path().empty() ? fs::path(".") : path_.parent_path();
+  return (base / p.parent_path().filename() / p.filename()).string();
 }
 
 std::vector<MetricValue> Store::study_metrics(std::int64_t study_id) {

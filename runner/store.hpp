@@ -343,9 +343,13 @@ public:
   // The last `limit` failed, timed-out, abandoned or interrupted attempts with an error text.
   std::vector<AttemptError> last_errors(std::optional<std::int64_t> study_id, int limit);
   // The jobs of a study in expansion order: of one tier, or all; only the current expansion, or
-  // every job ever registered with it.
+  // every job ever registered with it. Their output_dir as job_folder() gives it.
   std::vector<StudyJob> study_jobs(std::int64_t study_id, const std::optional<std::string>& tier,
                                    bool current_only, const std::string& fingerprint);
+  // A job's folder as recorded (jobs.output_dir), as a path that works from here: a folder is
+  // <database dir>/<study>/<key>, recorded relative to the directory the runner ran in when its
+  // --db was relative, so a relative one is taken from this database's own directory.
+  std::string job_folder(const std::string& recorded) const;
   // The metrics of every job ever registered with a study, by job and then recording order.
   std::vector<MetricValue> study_metrics(std::int64_t study_id);
   // The code version of the attempt that recorded each job's metrics (job id -> version).
