@@ -111,17 +111,29 @@ std::string json_path(const std::string& param) {
 
 } // namespace
 
-int cmd_query(const std::filesystem::path& db_path, const std::string& sql, std::ostream& out) {
+int cmd_query(const std::filesystem::path& db_path, const std::string& sql, std::ostream& out,
+              double timeout_s) {
   Store store = Store::open_read(db_path);
   Stmt s = store.prepare_read_query(sql);
+  store.set_deadline(timeout_s);
   int n = s.columns();
   for (int i = 0; i < n; ++i)
     out << (i ? "," : "") << csv_field(s.column_name(i));
   out << "\n";
-  while (s.step()) {
-    for (int i = 0; i < n; ++i)
-      out << (i ? "," : "") << csv_field(cell(s, i));
-    out << "\n";
+  try {
+    while (out && s.step()) { // a failed write ends it (main says the output is incomplete)
+      for (int i = 0; i < n; ++i)
+        out << (i ? "," : "") << csv_field(cell(s, i));
+      out << "\n";
+    }
+  } catch (const SqliteError&) {
+    if (!store.deadline_passed())
+      throw;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", timeout_s);
+    throw std::runtime_error(std::string("the query was stopped after ") + buf +
+                             " s (--timeout S sets the limit, 0: none); the rows printed are "
+                             "incomplete");
   }
   return 0;
 }
@@ -312,6 +324,14 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
   std::int64_t sid = study_id(store, t.study);
   json_path(t.rows);
   json_path(t.cols);
+  // --rows and --cols as --where takes its keys: a parameter of the study's jobs, or scheme.
+  for (const auto& [opt, key] : {std::pair{"--rows", &t.rows}, std::pair{"--cols", &t.cols}})
+    if (*key != "scheme" && !store.has_param(sid, *key)) {
+      std::vector<std::string> names = store.param_names(sid);
+      throw std::runtime_error(std::string(opt) + " '" + *key + "' is not a parameter of this " +
+                               "study's jobs" + did_you_mean(*key, names) +
+                               (names.empty() ? "" : "; parameters: " + quoted_list(names)));
+    }
   JobFilter filter = where_filter(store, sid, t.where);
   // Keep numeric order for numeric parameter values.
   struct Key {
@@ -596,6 +616,14 @@ const char* publish_header = "study,job,tier,code_version,params,metric,value";
 
 int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
                 const std::filesystem::path& out_file, std::ostream& log) {
+  // The file is read, then replaced by a renamed temporary file: only a regular file (or none
+  // yet) can be (a device would be read forever, a link replaced by a file).
+  if (std::error_code ec;
+      std::filesystem::exists(std::filesystem::symlink_status(out_file, ec)) &&
+      !std::filesystem::is_regular_file(std::filesystem::symlink_status(out_file, ec)))
+    throw std::runtime_error("--out '" + out_file.string() +
+                             "' is not a regular file; publish rewrites a CSV file in place, give "
+                             "the path of one (or of a file to create)");
   // The rows already committed, grouped by job in file order.
   std::vector<std::string> order;
   std::map<std::string, std::vector<std::string>> old_rows;

@@ -26,6 +26,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <set>
 #include <sys/file.h>
 #include <thread>
 #include <unistd.h>
@@ -334,8 +335,14 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
 
 Selection select_jobs(const Study& study_file, const RunOptions& opts) {
   std::vector<Assignment> sets;
-  for (const auto& kv : opts.set)
+  std::set<std::string> set_names;
+  for (const auto& kv : opts.set) {
     sets.push_back(parse_assignment(study_file.specs, kv, "--set"));
+    if (!set_names.insert(sets.back().name).second)
+      throw StudyError({{"command line", 0, 0,
+                         "--set " + kv + ": '" + sets.back().name +
+                             "' is given twice; give each parameter one value"}});
+  }
   Selection sel{study_file, opts.tier, opts.max_jobs, {}, {}};
   for (const auto& kv : opts.where)
     sel.where.push_back(parse_assignment(study_file.specs, kv, "--where"));
@@ -661,8 +668,14 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         while (auto t = ch.pop_task()) {
           ChildRequest req;
           req.exe = opts.self_exe;
-          req.args = {"job",   "--spec",           t->spec.string(),
-                      "--out", t->result.string(), "--die-with-parent"};
+          req.args = {"job",
+                      "--spec",
+                      t->spec.string(),
+                      "--out",
+                      t->result.string(),
+                      "--die-with-parent",
+                      "--parent-pid",
+                      std::to_string(::getpid())};
           req.env = {{"OMP_NUM_THREADS", std::to_string(opts.threads_per_job)}};
           req.log_path = t->log;
           ChildOutcome c = run_child(req, opts.timeout_s, g_stop, opts.kill_grace_s);

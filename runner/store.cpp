@@ -301,10 +301,24 @@ Store Store::open_read(const fs::path& path) {
                              "' (run a study first, or pass --db)");
   Db db = Db::reader(path.string());
   configure_checked(db, path, "");
-  if (user_version(db) == 0)
+  const int v = user_version(db);
+  if (v == 0)
     throw std::runtime_error("'" + path.string() + "' is not a runner database (no schema)");
-  // A runner database of an older schema is read as it is; the columns added since are filled by
-  // the next runner that opens it for writing.
+  if (v < schema_version) {
+    // A runner database of an older schema lacks columns and tables the read commands use: it
+    // is upgraded first, as the next run would (identified, quick-checked, migrated).
+    db = Db();
+    try {
+      Store::open_write(path);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("database '" + path.string() + "' has schema version " +
+                               std::to_string(v) + ", older than this runner's " +
+                               std::to_string(schema_version) +
+                               ", and could not be upgraded: " + e.what());
+    }
+    db = Db::reader(path.string());
+    configure_checked(db, path, "");
+  }
   return Store(std::move(db), path);
 }
 
@@ -1195,6 +1209,30 @@ int query_authorizer(void* denied, int action, const char* a, const char* b, con
 }
 
 } // namespace
+
+void Store::set_deadline(double seconds) {
+  if (!(seconds > 0)) {
+    sqlite3_progress_handler(db_.handle(), 0, nullptr, nullptr);
+    deadline_.reset();
+    return;
+  }
+  deadline_ = std::make_unique<Deadline>();
+  deadline_->at = std::chrono::steady_clock::now() +
+                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                      std::chrono::duration<double>(seconds));
+  sqlite3_progress_handler(
+      db_.handle(), 10000,
+      [](void* p) -> int {
+        auto* d = static_cast<Deadline*>(p);
+        d->passed = d->passed || std::chrono::steady_clock::now() >= d->at;
+        return d->passed ? 1 : 0;
+      },
+      deadline_.get());
+}
+
+bool Store::deadline_passed() const {
+  return deadline_ && deadline_->passed;
+}
 
 Stmt Store::prepare_read_query(const std::string& sql) {
   std::string denied;

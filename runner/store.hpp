@@ -7,9 +7,11 @@
 #include "expand.hpp"
 #include "sqlite.hpp"
 
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -375,6 +377,11 @@ public:
   // `runner query`: prepares the user's statement after checking it reads only (authorizer and
   // sqlite3_stmt_readonly) and is one statement; throws with the reason otherwise.
   Stmt prepare_read_query(const std::string& sql);
+  // Interrupts this connection's statements once `seconds` have passed from now (SQLite's
+  // progress handler; their step() throws SQLITE_INTERRUPT); 0: no limit. deadline_passed():
+  // whether that happened.
+  void set_deadline(double seconds);
+  bool deadline_passed() const;
 
   // --- Slurm -------------------------------------------------------------------------------
   // Records a submission of n_jobs in n_tasks; dir_of(id) names its directory (manifest in it).
@@ -426,6 +433,13 @@ private:
   Stmt end_attempt(const std::string& cond);
   Db db_;
   std::filesystem::path path_;
+  // set_deadline(): the time and whether it passed (on the heap: the handler keeps its address
+  // when the Store moves).
+  struct Deadline {
+    std::chrono::steady_clock::time_point at;
+    bool passed = false;
+  };
+  std::unique_ptr<Deadline> deadline_;
 };
 
 // The error text for a database file SQLite reports as corrupt (what: SQLite's words).
