@@ -187,6 +187,10 @@ int main(int argc, char** argv) {
       ->check(finite_number(0, true, "; omit --timeout for no limit"));
   one->add_flag("-n,--dry-run", one_opt.dry_run, "Show the job and its state; run nothing");
   one->add_flag("-y,--yes", one_opt.yes, "Run even when the estimate exceeds an hour");
+  one->add_flag("--retry-failed", one_opt.retry_failed,
+                "Run the job again if it failed, diverged or timed out");
+  one->add_flag("--rerun-stale", one_opt.rerun_stale,
+                "Recompute the job if its result was made by other solver code (stale)");
 
   std::string spec_file, out_file;
   bool die_with_parent = false;

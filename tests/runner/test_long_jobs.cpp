@@ -293,3 +293,23 @@ TEST(LongJobs, AmbiguousCommandLineValuesAreRefused) {
   EXPECT_CONTAINS(tier.out, "an empty tier name");
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts"), attempts); // nothing ran
 }
+
+// `runner one` runs a failed job again with --retry-failed and a stale one with --rerun-stale,
+// as a study run does; without them the recorded outcome is shown and nothing runs.
+TEST(LongJobs, RunnerOneRetriesAndRecomputesOnRequest) {
+  TempDir dir;
+  fs::path db = dir / "results" / "results.sqlite";
+  run_runner(dir, "one patch_test n_side=8", "SPH_RUNNER_FAULT=segv");
+  ASSERT_EQ(sql_text(db, "SELECT state FROM jobs"), "failed\n");
+  run_runner(dir, "one patch_test n_side=8");
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts"), 1);
+  auto retry = run_runner(dir, "one patch_test n_side=8 --retry-failed");
+  EXPECT_EQ(retry.code, 0) << retry.out;
+  EXPECT_EQ(sql_text(db, "SELECT state FROM jobs"), "done\n");
+  auto stale = run_runner(dir, "one patch_test n_side=8 --rerun-stale",
+                          "SPH_RUNNER_SOLVER_FINGERPRINT=cccc");
+  EXPECT_EQ(stale.code, 0) << stale.out;
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE state='done' AND "
+                        "solver_fingerprint='cccc'"),
+            1);
+}
