@@ -924,7 +924,9 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   }
   if (lost || busy)
     return 1;
-  bool any_failed = final_counts.count(JobState::failed) || final_counts.count(JobState::timeout);
+  // An attempt of this run that failed fails the run, also when its job keeps an earlier result.
+  bool any_failed = final_counts.count(JobState::failed) ||
+                    final_counts.count(JobState::timeout) || !failures.empty();
   return any_failed ? 1 : 0;
 }
 

@@ -55,6 +55,7 @@ TEST(LongJobs, AFailingRecomputationKeepsTheDoneResult) {
 
   auto crash = run_runner(dir, "s.toml --rerun-stale",
                           "SPH_RUNNER_SOLVER_FINGERPRINT=bbbb SPH_RUNNER_FAULT=segv");
+  EXPECT_EQ(crash.code, 1) << crash.out; // the attempts failed; the results are kept
   EXPECT_CONTAINS(crash.out, "killed by SIGSEGV");
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM metrics"), rows);
   EXPECT_EQ(sql_text(db, "SELECT * FROM job_metrics ORDER BY job, metric"), before);
@@ -93,6 +94,7 @@ TEST(LongJobs, AFailingRetryKeepsTheDivergedResult) {
   const std::int64_t rows = sql_int(db, "SELECT count(*) FROM metrics");
   ASSERT_GT(rows, 4);
   auto crash = run_runner(dir, "s.toml --retry-failed", "SPH_RUNNER_FAULT=segv");
+  EXPECT_EQ(crash.code, 1) << crash.out; // the attempts failed; the results are kept
   EXPECT_CONTAINS(crash.out, "killed by SIGSEGV");
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM metrics"), rows);
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM jobs WHERE state='diverged'"), 4);
