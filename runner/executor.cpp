@@ -701,6 +701,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       JobCursor cursor(sel.jobs()); // the to-do list is in expansion order
       auto last_heartbeat = std::chrono::steady_clock::now();
       auto last_checkpoint = last_heartbeat;
+      store.wal_files_changed(); // notes the -wal and -shm files it uses (checked at heartbeats)
 
       for (;;) {
         while (g_stop.load() == 0 && running.size() < n_workers && next < todo.size()) {
@@ -857,6 +858,14 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           std::vector<std::pair<std::int64_t, std::optional<double>>> hb;
           for (const auto& [id, t] : running)
             hb.emplace_back(id, read_progress(t.progress));
+          // Its -wal or -shm file removed under it, this runner would record results no other
+          // runner sees (and they would run the jobs again): stop before writing more.
+          if (std::string changed = store.wal_files_changed(); !changed.empty())
+            throw std::runtime_error(
+                changed + " while this runner used it: what it recorded since the last "
+                          "checkpoint of the -wal file is not in the database file. Stop every "
+                          "runner on this database, check it (runner query \"PRAGMA "
+                          "integrity_check\"), then run again");
           store.heartbeat(hb, host, pid, unix_now());
         }
         if (std::chrono::duration<double>(now - last_checkpoint).count() >= 30) {
@@ -925,8 +934,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   if (lost || busy)
     return 1;
   // An attempt of this run that failed fails the run, also when its job keeps an earlier result.
-  bool any_failed = final_counts.count(JobState::failed) ||
-                    final_counts.count(JobState::timeout) || !failures.empty();
+  bool any_failed = final_counts.count(JobState::failed) || final_counts.count(JobState::timeout) ||
+                    !failures.empty();
   return any_failed ? 1 : 0;
 }
 

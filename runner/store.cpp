@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <set>
+#include <sys/stat.h>
 #include <sys/vfs.h>
 #include <unistd.h>
 
@@ -379,6 +380,26 @@ std::size_t Store::stale_count(std::int64_t study_id, const std::string& tier,
                        stale_sql(db_, "j.id", "j.state", "?3"));
   q.bind(1, study_id).bind(2, tier).bind(3, fingerprint);
   return q.step() ? static_cast<std::size_t>(q.integer(0)) : 0;
+}
+
+std::string Store::wal_files_changed() {
+  for (const char* suffix : {"-wal", "-shm"}) {
+    const std::string f = path_.string() + suffix;
+    struct stat st {};
+    const bool exists = ::stat(f.c_str(), &st) == 0;
+    auto seen = wal_files_.find(suffix);
+    if (seen == wal_files_.end()) {
+      if (exists)
+        wal_files_[suffix] = {static_cast<std::uint64_t>(st.st_dev),
+                              static_cast<std::uint64_t>(st.st_ino)};
+      continue;
+    }
+    if (!exists)
+      return "'" + f + "' was deleted";
+    if (seen->second != std::pair<std::uint64_t, std::uint64_t>(st.st_dev, st.st_ino))
+      return "'" + f + "' was replaced by another file";
+  }
+  return "";
 }
 
 void Store::checkpoint_wal(bool truncate) {

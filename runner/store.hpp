@@ -265,6 +265,12 @@ public:
   std::size_t stale_count(std::int64_t study_id, const std::string& tier,
                           const std::string& fingerprint);
 
+  // The database's -wal and -shm files, as this connection has them open: "" while they are the
+  // files it opened (each one noted the first time it is seen), else which one was deleted or
+  // replaced. A connection whose -wal or -shm file was removed under it writes where no other
+  // connection reads: its transactions are lost to them, and jobs may run twice.
+  std::string wal_files_changed();
+
   // PRAGMA wal_checkpoint: PASSIVE (never waits) or, with truncate, TRUNCATE (the -wal file
   // back to zero bytes when no reader is using it). Errors are ignored: a checkpoint is tidying.
   void checkpoint_wal(bool truncate);
@@ -440,6 +446,7 @@ private:
     bool passed = false;
   };
   std::unique_ptr<Deadline> deadline_;
+  std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> wal_files_; // (dev, inode)
 };
 
 // The error text for a database file SQLite reports as corrupt (what: SQLite's words).

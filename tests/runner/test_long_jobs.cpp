@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 #include <sys/wait.h>
+#include <thread>
 
 using namespace sph::runner;
 using namespace sph::runner::test;
@@ -314,4 +315,29 @@ TEST(LongJobs, RunnerOneRetriesAndRecomputesOnRequest) {
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE state='done' AND "
                         "solver_fingerprint='cccc'"),
             1);
+}
+
+// The -wal and -shm files deleted in the middle of a sweep: the runner would go on recording into
+// a -wal file no other connection reads (results lost to them, jobs run twice). It stops at its
+// next heartbeat, naming the file and what to do.
+TEST(LongJobs, DeletedWalFilesStopTheSweep) {
+  TempDir dir;
+  write_text(dir / "s.toml", "[study]\nname = \"wal\"\ncase = \"patch_test\"\n[sweep]\nn_side = "
+                             "[8, 9, 10, 11, 12, 13, 14, 15]\n");
+  fs::path db = dir / "results" / "results.sqlite";
+  pid_t pid = spawn_runner(dir.path(), {"s.toml", "-j", "1", "--heartbeat-s", "0.2"},
+                           {{"SPH_RUNNER_FAULT", "slow=0.5"}}, dir / "bg.txt");
+  ASSERT_GT(pid, 0);
+  for (int i = 0; i < 200 && !(fs::exists(db) && sql_int(db, "SELECT count(*) FROM jobs WHERE "
+                                                             "state='done'") >= 1);
+       ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(fs::exists(db.string() + "-wal"));
+  fs::remove(db.string() + "-wal");
+  fs::remove(db.string() + "-shm");
+  const int code = wait_exit(pid);
+  const std::string log = read_file(dir / "bg.txt");
+  EXPECT_NE(code, 0) << log;
+  EXPECT_CONTAINS(log, "results.sqlite-wal' was deleted while this runner used it");
+  EXPECT_CONTAINS(log, "Stop every runner on this database");
 }
