@@ -7,6 +7,7 @@
 #include "e2e_helpers.hpp"
 
 #include "cases/case.hpp"
+#include "cases/time_loop.hpp"
 #include "core/fingerprint.hpp"
 #include "io/checkpoint.hpp"
 #include "io/hdf5.hpp"
@@ -539,4 +540,22 @@ TEST(Checkpoint, CylinderFreeStreamResumesToTheSameBits) {
                                 "time_per_step_s", "cpu_time_per_step_s", "cpu_time_s"});
     EXPECT_CONTAINS(msg, "resumed at t = ");
   }
+}
+
+// The message of a diverged run gives its time and speed with 6 significant digits: not
+// "t = 0.000000" for a time of 1e-10 s, nor 301 digits for the 1e300 that stands for a speed
+// that is not finite (that one reads "velocity not finite").
+TEST(TimeLoop, ADivergedRunSaysWhenWithSixSignificantDigits) {
+  Params p = case_defaults("lid_driven_cavity");
+  p["dx"] = 0.05;
+  p["dt"] = 0.05; // far too large: the PPE fails at t = 1.85
+  p["t_end"] = 3.0;
+  RunContext plain;
+  RunResult r = find_case("lid_driven_cavity")->run(p, plain);
+  ASSERT_EQ(r.status, RunStatus::Diverged) << r.message;
+  EXPECT_CONTAINS(r.message, " at t = 1.85");
+  EXPECT_EQ(r.message.find("1.850000"), std::string::npos) << r.message;
+  EXPECT_EQ(message_number(1e300), "1e+300");
+  EXPECT_EQ(message_number(26.6), "26.6");
+  EXPECT_EQ(message_number(3e-10), "3e-10");
 }
