@@ -62,6 +62,8 @@ RunResult run_checkpoint_demo(const Params& prm, const RunContext& ctx) {
       throw std::runtime_error("checkpoint does not match n=" + std::to_string(n));
     res.message = "resumed from step " + std::to_string(step) + " (attempt " +
                   std::to_string(ctx.attempt) + ")";
+  } else {
+    res.message = ck.rejection(); // a checkpoint it could not continue: why it started again
   }
   auto save = [&](std::int64_t steps_done) {
     ck.save({steps_done, t, {{"x", x}, {"v", v}, {"a", a}}});

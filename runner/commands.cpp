@@ -114,17 +114,29 @@ std::string json_path(const std::string& param) {
 
 } // namespace
 
-int cmd_query(const std::filesystem::path& db_path, const std::string& sql, std::ostream& out) {
+int cmd_query(const std::filesystem::path& db_path, const std::string& sql, std::ostream& out,
+              double timeout_s) {
   Store store = Store::open_read(db_path);
   Stmt s = store.prepare_read_query(sql);
+  store.set_deadline(timeout_s);
   int n = s.columns();
   for (int i = 0; i < n; ++i)
     out << (i ? "," : "") << csv_field(s.column_name(i));
   out << "\n";
-  while (s.step()) {
-    for (int i = 0; i < n; ++i)
-      out << (i ? "," : "") << csv_field(cell(s, i));
-    out << "\n";
+  try {
+    while (out && s.step()) { // a failed write ends it (main says the output is incomplete)
+      for (int i = 0; i < n; ++i)
+        out << (i ? "," : "") << csv_field(cell(s, i));
+      out << "\n";
+    }
+  } catch (const SqliteError&) {
+    if (!store.deadline_passed())
+      throw;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", timeout_s);
+    throw std::runtime_error(std::string("the query was stopped after ") + buf +
+                             " s (--timeout S sets the limit, 0: none); the rows printed are "
+                             "incomplete");
   }
   return 0;
 }
@@ -315,6 +327,14 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
   std::int64_t sid = study_id(store, t.study);
   json_path(t.rows);
   json_path(t.cols);
+  // --rows and --cols as --where takes its keys: a parameter of the study's jobs, or scheme.
+  for (const auto& [opt, key] : {std::pair{"--rows", &t.rows}, std::pair{"--cols", &t.cols}})
+    if (*key != "scheme" && !store.has_param(sid, *key)) {
+      std::vector<std::string> names = store.param_names(sid);
+      throw std::runtime_error(std::string(opt) + " '" + *key + "' is not a parameter of this " +
+                               "study's jobs" + did_you_mean(*key, names) +
+                               (names.empty() ? "" : "; parameters: " + quoted_list(names)));
+    }
   JobFilter filter = where_filter(store, sid, t.where);
   // Keep numeric order for numeric parameter values.
   struct Key {
@@ -599,6 +619,14 @@ const char* publish_header = "study,job,tier,code_version,params,metric,value";
 
 int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
                 const std::filesystem::path& out_file, std::ostream& log) {
+  // The file is read, then replaced by a renamed temporary file: only a regular file (or none
+  // yet) can be (a device would be read forever, a link replaced by a file).
+  if (std::error_code ec;
+      std::filesystem::exists(std::filesystem::symlink_status(out_file, ec)) &&
+      !std::filesystem::is_regular_file(std::filesystem::symlink_status(out_file, ec)))
+    throw std::runtime_error("--out '" + out_file.string() +
+                             "' is not a regular file; publish rewrites a CSV file in place, give "
+                             "the path of one (or of a file to create)");
   // The rows already committed, grouped by job in file order.
   std::vector<std::string> order;
   std::map<std::string, std::vector<std::string>> old_rows;
@@ -627,7 +655,12 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   std::map<std::string, std::vector<std::string>> new_rows;
   std::vector<std::string> new_order;
   std::size_t stale = 0;
+  std::set<std::string> retired; // jobs of earlier versions of the study file only
   for (const StudyJob& j : store.study_jobs(sid, std::nullopt, false, solver_fingerprint())) {
+    if (j.tiers.empty()) { // in no tier of the current expansion: export and status hide it too
+      retired.insert(j.key);
+      continue;
+    }
     if ((j.state != JobState::done && j.state != JobState::diverged) || !metrics.count(j.id))
       continue;
     const auto v = versions.find(j.id);
@@ -643,8 +676,12 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   }
   std::ostringstream text;
   text << publish_header << "\n";
-  std::size_t kept = 0, replaced = 0, added = 0;
+  std::size_t kept = 0, replaced = 0, added = 0, removed = 0;
   for (const auto& key : order) {
+    if (retired.count(key)) {
+      ++removed;
+      continue;
+    }
     const auto it = new_rows.find(key);
     const auto& rows = it == new_rows.end() ? old_rows[key] : it->second;
     (it == new_rows.end() ? kept : replaced) += 1;
@@ -660,6 +697,8 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   write_file_atomic(out_file, text.str());
   log << out_file.string() << ": " << added << " jobs added, " << replaced << " replaced, " << kept
       << " kept from the file";
+  if (removed)
+    log << ", " << removed << " removed (no longer in the study: its file changed)";
   if (stale)
     log << "; " << stale << " of the database's jobs are stale (made by other solver code than "
         << "this build's; their code_version says which)";

@@ -11,7 +11,9 @@
 namespace sph::runner {
 
 // Runs one SQL statement on a read-only connection and prints CSV with a header row.
-int cmd_query(const std::filesystem::path& db, const std::string& sql, std::ostream& out);
+// timeout_s: the query is stopped with an error after this many seconds (0: no limit).
+int cmd_query(const std::filesystem::path& db, const std::string& sql, std::ostream& out,
+              double timeout_s = 0);
 
 // Counts by state per study (and tier), running jobs with heartbeat age, the last errors.
 int cmd_status(const std::filesystem::path& db, const std::string& study, std::ostream& out);

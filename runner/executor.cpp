@@ -26,6 +26,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <set>
 #include <sys/file.h>
 #include <thread>
 #include <unistd.h>
@@ -334,8 +335,14 @@ Finish outcome_to_finish(const ChildOutcome& c, const fs::path& result_file, con
 
 Selection select_jobs(const Study& study_file, const RunOptions& opts) {
   std::vector<Assignment> sets;
-  for (const auto& kv : opts.set)
+  std::set<std::string> set_names;
+  for (const auto& kv : opts.set) {
     sets.push_back(parse_assignment(study_file.specs, kv, "--set"));
+    if (!set_names.insert(sets.back().name).second)
+      throw StudyError({{"command line", 0, 0,
+                         "--set " + kv + ": '" + sets.back().name +
+                             "' is given twice; give each parameter one value"}});
+  }
   Selection sel{study_file, opts.tier, opts.max_jobs, {}, {}};
   for (const auto& kv : opts.where)
     sel.where.push_back(parse_assignment(study_file.specs, kv, "--where"));
@@ -661,8 +668,14 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         while (auto t = ch.pop_task()) {
           ChildRequest req;
           req.exe = opts.self_exe;
-          req.args = {"job",   "--spec",           t->spec.string(),
-                      "--out", t->result.string(), "--die-with-parent"};
+          req.args = {"job",
+                      "--spec",
+                      t->spec.string(),
+                      "--out",
+                      t->result.string(),
+                      "--die-with-parent",
+                      "--parent-pid",
+                      std::to_string(::getpid())};
           req.env = job_environment(opts.threads_per_job);
           req.log_path = t->log;
           ChildOutcome c = run_child(req, opts.timeout_s, g_stop, opts.kill_grace_s);
@@ -688,6 +701,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       JobCursor cursor(sel.jobs()); // the to-do list is in expansion order
       auto last_heartbeat = std::chrono::steady_clock::now();
       auto last_checkpoint = last_heartbeat;
+      store.wal_files_changed(); // notes the -wal and -shm files it uses (checked at heartbeats)
 
       for (;;) {
         while (g_stop.load() == 0 && running.size() < n_workers && next < todo.size()) {
@@ -844,6 +858,14 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           std::vector<std::pair<std::int64_t, std::optional<double>>> hb;
           for (const auto& [id, t] : running)
             hb.emplace_back(id, read_progress(t.progress));
+          // Its -wal or -shm file removed under it, this runner would record results no other
+          // runner sees (and they would run the jobs again): stop before writing more.
+          if (std::string changed = store.wal_files_changed(); !changed.empty())
+            throw std::runtime_error(
+                changed + " while this runner used it: what it recorded since the last "
+                          "checkpoint of the -wal file is not in the database file. Stop every "
+                          "runner on this database, check it (runner query \"PRAGMA "
+                          "integrity_check\"), then run again");
           store.heartbeat(hb, host, pid, unix_now());
         }
         if (std::chrono::duration<double>(now - last_checkpoint).count() >= 30) {
@@ -911,7 +933,9 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   }
   if (lost || busy)
     return 1;
-  bool any_failed = final_counts.count(JobState::failed) || final_counts.count(JobState::timeout);
+  // An attempt of this run that failed fails the run, also when its job keeps an earlier result.
+  bool any_failed = final_counts.count(JobState::failed) || final_counts.count(JobState::timeout) ||
+                    !failures.empty();
   return any_failed ? 1 : 0;
 }
 

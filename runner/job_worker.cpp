@@ -69,11 +69,13 @@ void inject(const std::string& fault) {
 } // namespace
 
 int run_job_files(const std::filesystem::path& spec_path, const std::filesystem::path& out,
-                  bool die_with_parent) {
+                  bool die_with_parent, int parent_pid) {
   if (die_with_parent) {
     prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() == 1)
-      return 4; // the parent died before we could arm the signal
+    // The parent died before we could arm the signal: we were given to another process (init,
+    // or a subreaper). Without the parent's pid, reparenting to init is all that can be seen.
+    if (parent_pid > 0 ? getppid() != parent_pid : getppid() == 1)
+      return 4;
   }
   struct sigaction sa {};
   sa.sa_handler = on_term;

@@ -12,8 +12,10 @@
 namespace sph::runner {
 
 // Returns the process exit code: 0 when a result file was written (whatever the job's status).
-// die_with_parent: the worker is killed if the process that started it dies.
+// die_with_parent: the worker is killed if the process that started it dies; parent_pid: that
+// process (0: unknown), so that a parent which is PID 1 (a runner in a container) is not taken
+// for one that died before the worker could arm the signal.
 int run_job_files(const std::filesystem::path& spec, const std::filesystem::path& out,
-                  bool die_with_parent);
+                  bool die_with_parent, int parent_pid = 0);
 
 } // namespace sph::runner

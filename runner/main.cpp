@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <set>
 #include <string>
@@ -65,6 +66,29 @@ CLI::Validator integer_in(long long lo, long long hi) {
       "INT");
 }
 
+// An option value that goes into a line of the Slurm script: one line, no control characters
+// (a line break would start a line of shell in job.sbatch).
+CLI::Validator one_script_line() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        for (unsigned char c : s)
+          if (c < 0x20 || c == 0x7f)
+            return "the value contains a line break or another control character; each value "
+                   "is one #SBATCH line (e.g. --account=X): repeat the option for more";
+        return "";
+      },
+      "TEXT");
+}
+
+// A --tier value: a tier's name (an empty one would silently mean the whole study).
+CLI::Validator tier_name() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        return s.empty() ? "an empty tier name; omit --tier for the whole study" : "";
+      },
+      "NAME");
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -94,7 +118,7 @@ int main(int argc, char** argv) {
   run->add_option("--db", db_run, "Database file")->capture_default_str();
   run->add_option("-j,--jobs", ro.jobs, "Jobs run in parallel (default: number of cores)")
       ->check(integer_in(0, 4096));
-  run->add_option("--tier", ro.tier, "Run a tier of the study ([tiers.NAME])");
+  run->add_option("--tier", ro.tier, "Run a tier of the study ([tiers.NAME])")->check(tier_name());
   run->add_option("--threads-per-job", ro.threads_per_job, "OpenMP threads of each job")
       ->capture_default_str()
       ->check(integer_in(1, max_threads_per_job));
@@ -165,19 +189,31 @@ int main(int argc, char** argv) {
       ->check(finite_number(0, true, "; omit --timeout for no limit"));
   one->add_flag("-n,--dry-run", one_opt.dry_run, "Show the job and its state; run nothing");
   one->add_flag("-y,--yes", one_opt.yes, "Run even when the estimate exceeds an hour");
+  one->add_flag("--retry-failed", one_opt.retry_failed,
+                "Run the job again if it failed, diverged or timed out");
+  one->add_flag("--rerun-stale", one_opt.rerun_stale,
+                "Recompute the job if its result was made by other solver code (stale)");
 
   std::string spec_file, out_file;
   bool die_with_parent = false;
+  int parent_pid = 0;
   auto* job = app.add_subcommand("job", "Run one job from a job-spec file (internal)");
   job->group(""); // hidden
   job->add_option("--spec", spec_file)->required();
   job->add_option("--out", out_file)->required();
   job->add_flag("--die-with-parent", die_with_parent);
+  job->add_option("--parent-pid", parent_pid); // the process that started it (--die-with-parent)
 
   std::string db_query = default_db, sql;
   auto* query = app.add_subcommand("query", "Run one SQL statement (read-only), print CSV");
   query->add_option("sql", sql, "SQL, e.g. \"SELECT * FROM job_metrics\"")->required();
   query->add_option("--db", db_query, "Database file")->capture_default_str();
+  double query_timeout = 600;
+  query
+      ->add_option("--timeout", query_timeout,
+                   "Stop the query with an error after this many seconds (0: no limit)")
+      ->capture_default_str()
+      ->check(finite_number(0, false, "; 0: no limit"));
 
   std::string db_status = default_db, status_study;
   auto* status = app.add_subcommand("status", "Job counts by state, running jobs, last errors");
@@ -260,7 +296,7 @@ int main(int argc, char** argv) {
   report->add_option("--db", report_db, "Database file")->capture_default_str();
   report->add_option("--out", report_opt.out_dir,
                      "Output directory (default: <db dir>/report/<study>)");
-  report->add_option("--tier", report_opt.tier, "Only the jobs of this tier");
+  report->add_option("--tier", report_opt.tier, "Only the jobs of this tier")->check(tier_name());
   report->add_option("--image-format", report_opt.image_format, "svg or png")
       ->capture_default_str();
 
@@ -273,7 +309,7 @@ int main(int argc, char** argv) {
   submit->add_flag("--slurm", use_slurm, "Submit to Slurm (the only back end)")->required();
   submit->add_option("--db", db_submit, "Database file (on the head node's local disk)")
       ->capture_default_str();
-  submit->add_option("--tier", so.tier, "Submit a tier of the study");
+  submit->add_option("--tier", so.tier, "Submit a tier of the study")->check(tier_name());
   submit
       ->add_option("--array-limit", so.array_limit,
                    "Array tasks running at once (%K of --array; 0: no limit)")
@@ -297,8 +333,9 @@ int main(int argc, char** argv) {
   submit->add_option("--max-attempts", so.max_attempts, "With --retry-failed")
       ->capture_default_str()
       ->check(integer_in(1, 1000000));
-  submit->add_option("--partition", so.partition, "Slurm partition");
-  submit->add_option("--sbatch-arg", so.sbatch_args, "Extra #SBATCH line (repeatable)");
+  submit->add_option("--partition", so.partition, "Slurm partition")->check(one_script_line());
+  submit->add_option("--sbatch-arg", so.sbatch_args, "Extra #SBATCH line (repeatable)")
+      ->check(one_script_line());
   submit->add_option("--slurm-dir", so.slurm_dir,
                      "Directory for manifests, specs, results (shared with the nodes; default: "
                      "<db dir>/slurm)");
@@ -338,97 +375,114 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
 
-  try {
-    if (*job)
-      return run_job_files(spec_file, out_file, die_with_parent);
-    if (*run) {
-      ro.db_path = db_run;
-      if (progress_mode != "auto")
-        ro.live_progress = progress_mode == "live";
-      if (timeout > 0)
-        ro.timeout_s = timeout;
-      Study study = load_study(study_file);
-      if (study.search)
-        return run_search(study, ro, std::cout, std::cerr);
-      return run_study(study, ro, std::cout, std::cerr);
-    }
-    if (*one) {
-      one_opt.db_path = db_one;
-      one_opt.jobs = 1;
-      one_opt.live_progress = false;
-      if (one_timeout > 0)
-        one_opt.timeout_s = one_timeout;
-      Study adhoc = adhoc_study(one_case, one_scheme, one_params);
-      return cmd_one(adhoc, one_opt, std::cout, std::cerr);
-    }
-    if (*slurm_task)
-      return run_slurm_task(manifest_file, task_index);
-    if (*submit) {
-      so.db_path = db_submit;
-      if (submit_timeout > 0)
-        so.timeout_s = submit_timeout;
-      Study study = load_study(submit_file);
-      if (study.search)
-        throw std::runtime_error(submit_file +
-                                 ": a study with [search] runs its probes one round at a time "
-                                 "and cannot be submitted as one array; run it with `runner "
-                                 "run` (inside a Slurm allocation if need be)");
-      return cmd_submit(study, so, std::cout, std::cerr);
-    }
-    if (*ingest)
-      return cmd_ingest(db_ingest, std::cout);
-    if (*query)
-      return cmd_query(db_query, sql, std::cout);
-    if (*status)
-      return cmd_status(db_status, status_study, std::cout);
-    if (*cases)
-      return cmd_cases(std::cout);
-    if (*table)
-      return cmd_table(db_table, topt, std::cout);
-    if (*converge) {
-      if (formal->count())
-        copt.formal_order = formal_order;
-      return cmd_converge(db_converge, copt, std::cout);
-    }
-    if (*report) {
-      report_opt.db = report_db;
-      return cmd_report(report_opt, std::cout);
-    }
-    if (*exp)
-      return cmd_export(db_export, export_study, export_format, std::cout);
-    if (*publish)
-      return cmd_publish(
-          db_publish, publish_study,
-          publish_out.empty() ? "docs/results/" + publish_study + ".csv" : publish_out, std::cout);
-  } catch (const StudyError& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
-  } catch (const SqliteError& e) {
-    // A page found damaged in the middle of a command: name the file and what to do.
-    int primary = e.code() & 0xff;
-    std::string db = *run        ? db_run
-                     : *one      ? db_one
-                     : *submit   ? db_submit
-                     : *ingest   ? db_ingest
-                     : *query    ? db_query
-                     : *status   ? db_status
-                     : *table    ? db_table
-                     : *converge ? db_converge
-                     : *report   ? report_db
-                     : *exp      ? db_export
-                                 : std::string();
-    if ((primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) && !db.empty())
-      std::cerr << "runner: error: " << damaged_message(db, e.what(), false) << "\n";
-    else if (!db.empty())
-      std::cerr << "runner: error: database '" << db << "': " << e.what()
-                << (primary == SQLITE_FULL ? " (free space on its disk and run again)" : "")
-                << "\n";
-    else
+  const int rc = [&]() -> int {
+    try {
+      if (*job)
+        return run_job_files(spec_file, out_file, die_with_parent, parent_pid);
+      if (*slurm_task)
+        return run_slurm_task(manifest_file, task_index);
+      if (*run) {
+        ro.db_path = db_run;
+        if (progress_mode != "auto")
+          ro.live_progress = progress_mode == "live";
+        if (timeout > 0)
+          ro.timeout_s = timeout;
+        Study study = load_study(study_file);
+        if (study.search)
+          return run_search(study, ro, std::cout, std::cerr);
+        return run_study(study, ro, std::cout, std::cerr);
+      }
+      if (*one) {
+        one_opt.db_path = db_one;
+        one_opt.jobs = 1;
+        one_opt.live_progress = false;
+        if (one_timeout > 0)
+          one_opt.timeout_s = one_timeout;
+        Study adhoc = adhoc_study(one_case, one_scheme, one_params);
+        return cmd_one(adhoc, one_opt, std::cout, std::cerr);
+      }
+      if (*submit) {
+        so.db_path = db_submit;
+        if (submit_timeout > 0)
+          so.timeout_s = submit_timeout;
+        Study study = load_study(submit_file);
+        if (study.search)
+          throw std::runtime_error(submit_file +
+                                   ": a study with [search] runs its probes one round at a time "
+                                   "and cannot be submitted as one array; run it with `runner "
+                                   "run` (inside a Slurm allocation if need be)");
+        return cmd_submit(study, so, std::cout, std::cerr);
+      }
+      if (*ingest)
+        return cmd_ingest(db_ingest, std::cout);
+      if (*query)
+        return cmd_query(db_query, sql, std::cout, query_timeout);
+      if (*status)
+        return cmd_status(db_status, status_study, std::cout);
+      if (*cases)
+        return cmd_cases(std::cout);
+      if (*table)
+        return cmd_table(db_table, topt, std::cout);
+      if (*converge) {
+        if (formal->count())
+          copt.formal_order = formal_order;
+        return cmd_converge(db_converge, copt, std::cout);
+      }
+      if (*report) {
+        report_opt.db = report_db;
+        return cmd_report(report_opt, std::cout);
+      }
+      if (*exp)
+        return cmd_export(db_export, export_study, export_format, std::cout);
+      if (*publish)
+        return cmd_publish(db_publish, publish_study,
+                           publish_out.empty() ? "docs/results/" + publish_study + ".csv"
+                                               : publish_out,
+                           std::cout);
+    } catch (const StudyError& e) {
+      std::cerr << e.what() << "\n";
+      return 2;
+    } catch (const SqliteError& e) {
+      // A page found damaged in the middle of a command: name the file and what to do.
+      int primary = e.code() & 0xff;
+      std::string db = *run        ? db_run
+                       : *one      ? db_one
+                       : *submit   ? db_submit
+                       : *ingest   ? db_ingest
+                       : *query    ? db_query
+                       : *status   ? db_status
+                       : *table    ? db_table
+                       : *converge ? db_converge
+                       : *report   ? report_db
+                       : *exp      ? db_export
+                                   : std::string();
+      if ((primary == SQLITE_CORRUPT || primary == SQLITE_NOTADB) && !db.empty())
+        std::cerr << "runner: error: " << damaged_message(db, e.what(), false) << "\n";
+      else if (!db.empty())
+        std::cerr << "runner: error: database '" << db << "': " << e.what()
+                  << (primary == SQLITE_FULL ? " (free space on its disk and run again)" : "")
+                  << "\n";
+      else
+        std::cerr << "runner: error: " << e.what() << "\n";
+      return 1;
+    } catch (const std::exception& e) {
       std::cerr << "runner: error: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "runner: error: " << e.what() << "\n";
-    return 1;
-  }
-  return 0;
+      return 1;
+    }
+    return 0;
+  }();
+  if (*job || *slurm_task) // workers: their exit code says what became of the job
+    return rc;
+  // Every other command's output must reach its destination: when it cannot be written (a full
+  // disk, /dev/full, a closed pipe) the output is incomplete and the command fails.
+  std::cout.flush();
+  errno = 0;
+  const bool unwritten = !std::cout.good() || std::fflush(stdout) != 0 || std::ferror(stdout);
+  if (!unwritten)
+    return rc;
+  const int err = errno;
+  std::cerr << "runner: error: cannot write the output"
+            << (err ? std::string(": ") + std::strerror(err) : std::string())
+            << "; what was written is incomplete\n";
+  return rc ? rc : 1;
 }

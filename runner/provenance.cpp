@@ -1,10 +1,10 @@
 // Provenance strings recorded with every attempt.
 #include "provenance.hpp"
 
-#include "git_version.hpp"        // generated at build time by cmake/git_version.cmake
-#include "solver_fingerprint.hpp" // generated at build time by cmake/solver_fingerprint.cmake
+#include "core/fingerprint.hpp"
 
-#include <cstdlib>
+#include "git_version.hpp" // generated at build time by cmake/git_version.cmake
+
 
 #include <unistd.h>
 
@@ -25,9 +25,7 @@ std::string compiler_id() {
 }
 
 std::string solver_fingerprint() {
-  if (const char* e = std::getenv("SPH_RUNNER_SOLVER_FINGERPRINT"); e && *e)
-    return e;
-  return SPH_SOLVER_FINGERPRINT;
+  return sph::solver_fingerprint();
 }
 
 std::string host_name() {

@@ -162,10 +162,43 @@ const char* schema_v5 = R"SQL(
 ALTER TABLE attempts ADD COLUMN predicted_cpu_s REAL;
 )SQL";
 
+// Version 6: attempt_metrics keeps the metrics of every finished attempt (metrics holds those of
+// the job's result: a recomputation that fails or diverges leaves a done result in place), with
+// the view job_attempt_metrics over it. Filled from metrics (earlier attempts' were not kept).
+const char* schema_v6 = R"SQL(
+CREATE TABLE attempt_metrics (
+  job_id  INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  attempt INTEGER NOT NULL,
+  name    TEXT NOT NULL,
+  value   REAL,
+  ordinal INTEGER NOT NULL,
+  PRIMARY KEY (job_id, attempt, name)
+) WITHOUT ROWID;
+INSERT OR IGNORE INTO attempt_metrics(job_id, attempt, name, value, ordinal)
+  SELECT job_id, attempt, name, value, ordinal FROM metrics;
+
+CREATE VIEW job_attempt_metrics AS
+  SELECT s.name               AS study,
+         j.key                AS job,
+         a.attempt            AS attempt,
+         a.state              AS attempt_state,
+         a.solver_fingerprint AS solver_fingerprint,
+         a.finished_at        AS finished_at,
+         j.params_json        AS params,
+         m.name               AS metric,
+         m.value              AS value
+  FROM studies s
+  JOIN (SELECT DISTINCT study_id, job_id FROM study_jobs) sj ON sj.study_id = s.id
+  JOIN jobs j ON j.id = sj.job_id
+  JOIN attempt_metrics m ON m.job_id = j.id
+  JOIN attempts a ON a.job_id = m.job_id AND a.attempt = m.attempt;
+)SQL";
+
 } // namespace
 
 const std::vector<const char*>& migrations() {
-  static const std::vector<const char*> m{schema_v1, schema_v2, schema_v3, schema_v4, schema_v5};
+  static const std::vector<const char*> m{schema_v1, schema_v2, schema_v3,
+                                          schema_v4, schema_v5, schema_v6};
   return m;
 }
 

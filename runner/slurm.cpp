@@ -333,7 +333,10 @@ int run_slurm_task(const fs::path& manifest_path, int task) {
       continue; // done by an earlier run of this task (requeue)
     ChildRequest req;
     req.exe = m.at("runner").get<std::string>();
-    req.args = {"job", "--spec", spec.string(), "--out", result.string(), "--die-with-parent"};
+    req.args = {"job",           "--spec",
+                spec.string(),   "--out",
+                result.string(), "--die-with-parent",
+                "--parent-pid",  std::to_string(::getpid())};
     req.env = job_environment(m.value("threads", 1));
     req.log_path = log;
     ChildOutcome c = run_child(req, timeout, g_task_stop, 5);

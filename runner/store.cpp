@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <set>
+#include <sys/stat.h>
 #include <sys/vfs.h>
 #include <unistd.h>
 
@@ -301,10 +302,24 @@ Store Store::open_read(const fs::path& path) {
                              "' (run a study first, or pass --db)");
   Db db = Db::reader(path.string());
   configure_checked(db, path, "");
-  if (user_version(db) == 0)
+  const int v = user_version(db);
+  if (v == 0)
     throw std::runtime_error("'" + path.string() + "' is not a runner database (no schema)");
-  // A runner database of an older schema is read as it is; the columns added since are filled by
-  // the next runner that opens it for writing.
+  if (v < schema_version) {
+    // A runner database of an older schema lacks columns and tables the read commands use: it
+    // is upgraded first, as the next run would (identified, quick-checked, migrated).
+    db = Db();
+    try {
+      Store::open_write(path);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("database '" + path.string() + "' has schema version " +
+                               std::to_string(v) + ", older than this runner's " +
+                               std::to_string(schema_version) +
+                               ", and could not be upgraded: " + e.what());
+    }
+    db = Db::reader(path.string());
+    configure_checked(db, path, "");
+  }
   return Store(std::move(db), path);
 }
 
@@ -365,6 +380,26 @@ std::size_t Store::stale_count(std::int64_t study_id, const std::string& tier,
                        stale_sql(db_, "j.id", "j.state", "?3"));
   q.bind(1, study_id).bind(2, tier).bind(3, fingerprint);
   return q.step() ? static_cast<std::size_t>(q.integer(0)) : 0;
+}
+
+std::string Store::wal_files_changed() {
+  for (const char* suffix : {"-wal", "-shm"}) {
+    const std::string f = path_.string() + suffix;
+    struct stat st {};
+    const bool exists = ::stat(f.c_str(), &st) == 0;
+    auto seen = wal_files_.find(suffix);
+    if (seen == wal_files_.end()) {
+      if (exists)
+        wal_files_[suffix] = {static_cast<std::uint64_t>(st.st_dev),
+                              static_cast<std::uint64_t>(st.st_ino)};
+      continue;
+    }
+    if (!exists)
+      return "'" + f + "' was deleted";
+    if (seen->second != std::pair<std::uint64_t, std::uint64_t>(st.st_dev, st.st_ino))
+      return "'" + f + "' was replaced by another file";
+  }
+  return "";
 }
 
 void Store::checkpoint_wal(bool truncate) {
@@ -648,14 +683,35 @@ void Store::record_attempt(std::int64_t job_id, int attempt, const Finish& f) {
   else
     a.bind(11, f.failure_class);
   a.bind(12, job_id).bind(13, attempt).run();
-  Stmt d = db_.prepare("DELETE FROM metrics WHERE job_id=?");
-  d.bind(1, job_id).run();
-  Stmt m = db_.prepare("INSERT OR REPLACE INTO metrics(job_id, name, value, attempt, ordinal) "
-                       "VALUES(?,?,?,?,?)");
-  for (std::size_t k = 0; k < f.metrics.size(); ++k) {
-    // SQLite stores NaN as NULL; infinities are kept.
-    m.bind(1, job_id).bind(2, f.metrics[k].first).bind(3, f.metrics[k].second);
-    m.bind(4, attempt).bind(5, static_cast<std::int64_t>(k)).run();
+  auto insert_metrics = [&](const std::string& table) {
+    Stmt m = db_.prepare("INSERT OR REPLACE INTO " + table +
+                         "(job_id, name, value, attempt, ordinal) VALUES(?,?,?,?,?)");
+    for (std::size_t k = 0; k < f.metrics.size(); ++k) {
+      // SQLite stores NaN as NULL; infinities are kept.
+      m.bind(1, job_id).bind(2, f.metrics[k].first).bind(3, f.metrics[k].second);
+      m.bind(4, attempt).bind(5, static_cast<std::int64_t>(k)).run();
+    }
+  };
+  insert_metrics("attempt_metrics");
+  // The result the job holds: the attempt whose metrics are in `metrics`, if done or diverged.
+  std::optional<JobState> held;
+  {
+    Stmt q = db_.prepare("SELECT a.state FROM attempts a WHERE a.job_id=?1 AND a.attempt<>?2 AND "
+                         "a.attempt=(SELECT max(m.attempt) FROM metrics m WHERE m.job_id=?1)");
+    q.bind(1, job_id).bind(2, attempt);
+    if (q.step())
+      if (auto st = parse_job_state(q.text(0)); st && holds_result(*st))
+        held = *st;
+  }
+  const bool takes_over = !held || f.state == JobState::done ||
+                          (f.state == JobState::diverged && *held != JobState::done);
+  if (takes_over) {
+    Stmt d = db_.prepare("DELETE FROM metrics WHERE job_id=?");
+    d.bind(1, job_id).run();
+    insert_metrics("metrics");
+  } else {
+    Stmt u = db_.prepare("UPDATE jobs SET state=? WHERE id=?");
+    u.bind(1, to_string(*held)).bind(2, job_id).run();
   }
 }
 
@@ -747,7 +803,8 @@ Store::cost_samples(const std::vector<std::pair<std::string, std::string>>& case
       "SELECT a.cpu_s, (SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='n_particles'), "
       "(SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='steps'), j.params_json FROM "
       "jobs j JOIN "
-      "attempts a ON a.job_id=j.id AND a.attempt=j.attempts WHERE j.case_name=? AND j.scheme=? "
+      "attempts a ON a.job_id=j.id AND a.attempt=j.attempts AND a.state='done' WHERE "
+      "j.case_name=? AND j.scheme=? "
       "AND j.state='done' AND a.cpu_s IS NOT NULL ORDER BY a.finished_at DESC "
       "LIMIT ?");
   for (const auto& [c, sch] : case_schemes) {
@@ -897,7 +954,7 @@ std::vector<StudyJob> Store::study_jobs(std::int64_t study_id,
     j.state = job_state_from(q.text(2));
     j.scheme = q.text(3);
     j.params_json = q.text(4);
-    j.output_dir = q.is_null(5) ? "" : q.text(5);
+    j.output_dir = q.is_null(5) ? "" : job_folder(q.text(5));
     j.stale = q.integer(6) != 0;
     std::string tiers = q.is_null(7) ? "" : q.text(7);
     for (std::size_t a = 0; a < tiers.size();) {
@@ -910,6 +967,14 @@ std::vector<StudyJob> Store::study_jobs(std::int64_t study_id,
     out.push_back(std::move(j));
   }
   return out;
+}
+
+std::string Store::job_folder(const std::string& recorded) const {
+  const fs::path p(recorded);
+  if (p.empty() || p.is_absolute())
+    return recorded;
+  const fs::path base = path_.parent_path().empty() ? fs::path(".") : path_.parent_path();
+  return (base / p.parent_path().filename() / p.filename()).string();
 }
 
 std::vector<MetricValue> Store::study_metrics(std::int64_t study_id) {
@@ -1166,6 +1231,30 @@ int query_authorizer(void* denied, int action, const char* a, const char* b, con
 }
 
 } // namespace
+
+void Store::set_deadline(double seconds) {
+  if (!(seconds > 0)) {
+    sqlite3_progress_handler(db_.handle(), 0, nullptr, nullptr);
+    deadline_.reset();
+    return;
+  }
+  deadline_ = std::make_unique<Deadline>();
+  deadline_->at = std::chrono::steady_clock::now() +
+                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                      std::chrono::duration<double>(seconds));
+  sqlite3_progress_handler(
+      db_.handle(), 10000,
+      [](void* p) -> int {
+        auto* d = static_cast<Deadline*>(p);
+        d->passed = d->passed || std::chrono::steady_clock::now() >= d->at;
+        return d->passed ? 1 : 0;
+      },
+      deadline_.get());
+}
+
+bool Store::deadline_passed() const {
+  return deadline_ && deadline_->passed;
+}
 
 Stmt Store::prepare_read_query(const std::string& sql) {
   std::string denied;

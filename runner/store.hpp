@@ -7,9 +7,11 @@
 #include "expand.hpp"
 #include "sqlite.hpp"
 
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -218,7 +220,7 @@ struct Submission {
 
 class Store {
 public:
-  static constexpr int schema_version = 5;
+  static constexpr int schema_version = 6;
   // PRAGMA application_id of a runner database: 'SPHR'.
   static constexpr std::int64_t application_id = 0x53504852;
 
@@ -263,6 +265,12 @@ public:
   std::size_t stale_count(std::int64_t study_id, const std::string& tier,
                           const std::string& fingerprint);
 
+  // The database's -wal and -shm files, as this connection has them open: "" while they are the
+  // files it opened (each one noted the first time it is seen), else which one was deleted or
+  // replaced. A connection whose -wal or -shm file was removed under it writes where no other
+  // connection reads: its transactions are lost to them, and jobs may run twice.
+  std::string wal_files_changed();
+
   // PRAGMA wal_checkpoint: PASSIVE (never waits) or, with truncate, TRUNCATE (the -wal file
   // back to zero bytes when no reader is using it). Errors are ignored: a checkpoint is tidying.
   void checkpoint_wal(bool truncate);
@@ -280,6 +288,10 @@ public:
 
   // Records a finished attempt: attempt row, metrics and job state in one transaction.
   // false when the job is no longer ours (reset as stale by another runner): nothing written.
+  // The attempt's metrics always go to attempt_metrics. They become the job's result (metrics,
+  // state) when it is done, or diverged while the job holds no done result; otherwise the job
+  // keeps the result it holds and its state (a recomputation that fails or diverges never takes
+  // a result away; the attempt row says what happened).
   bool finish(std::int64_t job_id, int attempt, const std::string& host, int pid, const Finish& f);
 
   // Records the outcome of a job handed to Slurm (state `submitted`, attempt `attempt`); the
@@ -339,9 +351,13 @@ public:
   // The last `limit` failed, timed-out, abandoned or interrupted attempts with an error text.
   std::vector<AttemptError> last_errors(std::optional<std::int64_t> study_id, int limit);
   // The jobs of a study in expansion order: of one tier, or all; only the current expansion, or
-  // every job ever registered with it.
+  // every job ever registered with it. Their output_dir as job_folder() gives it.
   std::vector<StudyJob> study_jobs(std::int64_t study_id, const std::optional<std::string>& tier,
                                    bool current_only, const std::string& fingerprint);
+  // A job's folder as recorded (jobs.output_dir), as a path that works from here: a folder is
+  // <database dir>/<study>/<key>, recorded relative to the directory the runner ran in when its
+  // --db was relative, so a relative one is taken from this database's own directory.
+  std::string job_folder(const std::string& recorded) const;
   // The metrics of every job ever registered with a study, by job and then recording order.
   std::vector<MetricValue> study_metrics(std::int64_t study_id);
   // The code version of the attempt that recorded each job's metrics (job id -> version).
@@ -367,6 +383,11 @@ public:
   // `runner query`: prepares the user's statement after checking it reads only (authorizer and
   // sqlite3_stmt_readonly) and is one statement; throws with the reason otherwise.
   Stmt prepare_read_query(const std::string& sql);
+  // Interrupts this connection's statements once `seconds` have passed from now (SQLite's
+  // progress handler; their step() throws SQLITE_INTERRUPT); 0: no limit. deadline_passed():
+  // whether that happened.
+  void set_deadline(double seconds);
+  bool deadline_passed() const;
 
   // --- Slurm -------------------------------------------------------------------------------
   // Records a submission of n_jobs in n_tasks; dir_of(id) names its directory (manifest in it).
@@ -418,6 +439,14 @@ private:
   Stmt end_attempt(const std::string& cond);
   Db db_;
   std::filesystem::path path_;
+  // set_deadline(): the time and whether it passed (on the heap: the handler keeps its address
+  // when the Store moves).
+  struct Deadline {
+    std::chrono::steady_clock::time_point at;
+    bool passed = false;
+  };
+  std::unique_ptr<Deadline> deadline_;
+  std::map<std::string, std::pair<std::uint64_t, std::uint64_t>> wal_files_; // (dev, inode)
 };
 
 // The error text for a database file SQLite reports as corrupt (what: SQLite's words).

@@ -3,7 +3,7 @@
 # for tests of `runner submit --slurm`. Installs nothing: slurm-wlm and munge come from
 # scripts/install_deps.sh --with-slurm. Run as root. Idempotent: an already running cluster is left alone.
 #   scripts/slurm/start_local_cluster.sh          # start (about 20 s)
-#   scripts/slurm/start_local_cluster.sh --stop   # stop the daemons it started
+#   scripts/slurm/start_local_cluster.sh --stop   # stop the daemons (slurmd, slurmctld, munged)
 set -euo pipefail
 
 if [[ $(id -u) -ne 0 ]]; then
@@ -15,8 +15,16 @@ for b in munged slurmctld slurmd sinfo; do
 done
 
 if [[ "${1:-}" == "--stop" ]]; then
-  for p in slurmd slurmctld; do
-    [[ -f /run/$p.pid ]] && kill "$(cat /run/$p.pid)" 2>/dev/null || true
+  pids=()
+  for f in /run/slurmd.pid /run/slurmctld.pid /run/munge/munged.pid; do
+    if [[ -f $f ]] && p=$(cat "$f") && kill "$p" 2>/dev/null; then pids+=("$p"); fi
+  done
+  # Wait (up to 10 s) until they are gone, so that the caller's next step sees no daemon.
+  for _ in $(seq 100); do
+    alive=0
+    for p in "${pids[@]}"; do kill -0 "$p" 2>/dev/null && alive=1; done
+    [[ $alive == 0 ]] && break
+    sleep 0.1
   done
   exit 0
 fi

@@ -40,6 +40,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <memory>
 #include <omp.h>
@@ -56,6 +57,14 @@ struct LoopState {
   double wall_s = 0.0; // wall and process CPU time of the run, earlier attempts included (set for
   double cpu_s = 0.0;  // finish and diverged)
 };
+
+// A number in a message, with 6 significant digits (%g): a speed of 1e300 is not 301 digits and a
+// time of 1e-10 s is not 0.000000.
+inline std::string message_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
 
 template <int D>
 class FlowCase {
@@ -135,6 +144,8 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       s->resume();
       at.steps = static_cast<long>(st->step), at.t = st->time;
       resumed = io::resumed_message(at.t, ctx.attempt);
+    } else {
+      resumed = ck.rejection(); // a checkpoint it could not continue: why it started again
     }
   }
   io::ParticleSnapshots<D> snaps(ctx.output_dir, output_interval(prm), p, flow.h, s->h(), at.t,
@@ -179,7 +190,7 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     res.add("t_stop", at.t);
     c.diverged(*s, at, res);
     add_costs();
-    res.message = why + " at t = " + std::to_string(at.t);
+    res.message = why + " at t = " + message_number(at.t);
     if (!resumed.empty())
       res.message += "; " + resumed;
     return res;
@@ -205,7 +216,8 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
         vmax = std::max(vmax, std::isfinite(v2) ? std::sqrt(v2) : 1e300);
       }
     if (!(vmax <= bound))
-      return diverged("velocity " + std::to_string(vmax));
+      return diverged(vmax >= 1e300 ? std::string("velocity not finite")
+                                    : "velocity " + message_number(vmax));
     bool stop = false;
     try {
       stop = c.after_step(*s, at, st);

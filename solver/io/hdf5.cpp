@@ -170,4 +170,39 @@ std::vector<double> read_dataset(const std::filesystem::path& file, const std::s
   return out;
 }
 
+std::optional<std::string> read_string_attribute(const std::filesystem::path& file,
+                                                 const std::string& key) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0)
+    fail("cannot open file", file);
+  const htri_t exists = H5Aexists(f, key.c_str());
+  if (exists == 0) {
+    H5Fclose(f);
+    return std::nullopt;
+  }
+  const hid_t attr = exists > 0 ? H5Aopen(f, key.c_str(), H5P_DEFAULT) : -1;
+  const hid_t ftype = attr >= 0 ? H5Aget_type(attr) : -1;
+  std::optional<std::string> out;
+  if (ftype >= 0 && H5Tget_class(ftype) == H5T_STRING && H5Tis_variable_str(ftype) > 0) {
+    const hid_t mtype = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mtype, H5T_VARIABLE);
+    H5Tset_cset(mtype, H5Tget_cset(ftype));
+    char* text = nullptr;
+    if (H5Aread(attr, mtype, &text) >= 0 && text) {
+      out = std::string(text);
+      H5free_memory(text);
+    }
+    H5Tclose(mtype);
+  }
+  if (ftype >= 0)
+    H5Tclose(ftype);
+  if (attr >= 0)
+    H5Aclose(attr);
+  H5Fclose(f);
+  if (!out)
+    fail("cannot read string attribute " + key, file);
+  return out;
+}
+
 } // namespace sph::io

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,5 +50,10 @@ private:
 
 // Reads a whole 1-D (or flattened N-D) dataset of doubles.
 std::vector<double> read_dataset(const std::filesystem::path& file, const std::string& name);
+
+// A string attribute of the file's root group (as H5Writer::attribute writes it); nullopt when
+// the file has no attribute of that name. Throws when the file or the attribute cannot be read.
+std::optional<std::string> read_string_attribute(const std::filesystem::path& file,
+                                                 const std::string& key);
 
 } // namespace sph::io

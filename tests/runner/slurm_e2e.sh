@@ -18,12 +18,19 @@ for b in sbatch squeue scancel slurmctld slurmd munged; do
     exit 77
   fi
 done
+# A cluster this test starts is stopped when it ends (pass or fail); one already running (started
+# by hand with scripts/slurm/start_local_cluster.sh) is left as it was.
+daemons_before=$(for d in slurmctld slurmd munged; do pgrep -x "$d" || true; done | wc -l)
+DIR=$(mktemp -d /tmp/sph_slurm_e2e.XXXXXX)
+cleanup() {
+  rm -rf "$DIR"
+  if [[ $daemons_before == 0 ]]; then "$SRC/scripts/slurm/start_local_cluster.sh" --stop; fi
+}
+trap cleanup EXIT
 t0=$(date +%s)
 "$SRC/scripts/slurm/start_local_cluster.sh"
 echo "cluster ready in $(($(date +%s) - t0)) s"
 
-DIR=$(mktemp -d /tmp/sph_slurm_e2e.XXXXXX)
-trap 'rm -rf "$DIR"' EXIT
 cd "$DIR"
 cat > s.toml <<'TOML'
 [study]

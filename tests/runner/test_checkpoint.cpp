@@ -1,19 +1,26 @@
 // Checkpoints: the io::Checkpointer round trip, a cancelled checkpoint_demo job resumed to the same
 // bits as an uninterrupted run, and the runner killed (SIGKILL) in the middle of a long job: the
 // re-run resumes from the checkpoint in the job's output directory, its metrics equal an
-// uninterrupted run's bit for bit, and its progress fraction was visible while it ran.
+// uninterrupted run's bit for bit, and its progress fraction was visible while it ran. A
+// checkpoint of other solver code (another fingerprint), a damaged one (SHA-256) and an
+// unreadable one are not continued: the job starts again from t = 0 and says why.
 #include "e2e_helpers.hpp"
 
 #include "cases/case.hpp"
+#include "cases/time_loop.hpp"
+#include "core/fingerprint.hpp"
 #include "io/checkpoint.hpp"
+#include "io/hdf5.hpp"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <set>
+#include <sstream>
 #include <thread>
 
 using namespace sph;
@@ -245,12 +252,10 @@ TEST(Checkpoint, ContactShearLayerResumesToTheSameBits) {
   EXPECT_CONTAINS(msg, "resumed at t = 2.2");
 }
 
-// The runner is SIGKILLed while a long job runs (after its first checkpoints); the next run
-// resumes the job from its checkpoint instead of starting over.
-TEST(Checkpoint, RunnerKilledMidJobResumesFromTheCheckpoint) {
-  TempDir dir;
-  // 600 steps x 5 ms = 3 s per job; step_sleep_us is not part of the job key, so the reference
-  // run below (without the pause) has the same key and must give the same bits.
+// Study files of one checkpoint_demo job: slow.toml (600 steps x 5 ms = 3 s) and fast.toml, the
+// same job without the pause (step_sleep_us is not part of the job key, so both have the same
+// key and must give the same bits).
+void write_demo_studies(const TempDir& dir) {
   write_text(dir / "slow.toml", R"([study]
 name = "ckpt"
 case = "checkpoint_demo"
@@ -264,15 +269,25 @@ case = "checkpoint_demo"
 [params]
 steps = 600
 )");
+}
+
+// Starts `runner slow.toml` (checkpoints every 100 steps) with `env`, waits until its job has
+// run past a quarter (progress in the database) with a checkpoint on disk, calls before_kill and
+// SIGKILLs the runner. Returns the job key ("" when that did not happen within 20 s).
+std::string
+kill_runner_after_a_checkpoint(const TempDir& dir,
+                               const std::vector<std::pair<std::string, std::string>>& env,
+                               const std::function<void()>& before_kill = {}) {
   fs::path db = dir / "results" / "results.sqlite";
   pid_t pid = spawn_runner(dir.path(),
                            {"slow.toml", "--checkpoint-every-steps", "100", "--heartbeat-s", "0.2"},
-                           {}, dir / "bg.txt");
-  ASSERT_GT(pid, 0);
+                           env, dir / "bg.txt");
+  EXPECT_GT(pid, 0);
   std::string key;
   double progress_seen = -1;
+  bool ready = false;
   auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (std::chrono::steady_clock::now() < deadline) {
+  while (!ready && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     try {
       if (!fs::exists(db))
@@ -283,19 +298,46 @@ steps = 600
       std::string pr = sql_text(db, "SELECT progress FROM jobs WHERE state='running'");
       if (!pr.empty() && pr != "\n")
         progress_seen = std::stod(pr);
-      if (!key.empty() && progress_seen > 0.25 &&
-          fs::exists(dir / "results" / "ckpt" / key / "checkpoint.h5"))
-        break;
+      ready = !key.empty() && progress_seen > 0.25 &&
+              fs::exists(dir / "results" / "ckpt" / key / "checkpoint.h5");
     } catch (...) {
     }
   }
-  ASSERT_GT(progress_seen, 0.25) << "the running job's progress reached the database";
-  auto st = run_runner(dir, "status ckpt", "", "status.txt");
-  EXPECT_CONTAINS(st.out, "running jobs:");
-  EXPECT_CONTAINS(st.out, "%");
-  ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  EXPECT_TRUE(ready) << "no checkpoint and progress > 0.25 of a running job within 20 s "
+                     << "(progress seen: " << progress_seen << ")";
+  if (ready && before_kill)
+    before_kill();
+  ::kill(pid, SIGKILL);
   wait_exit(pid);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  return ready ? key : "";
+}
+
+// The metrics of the only job of dir's database against an uninterrupted run of fast.toml.
+void expect_metrics_of_an_uninterrupted_run(const TempDir& dir) {
+  auto ref = run_runner(dir, "fast.toml --db ref/results.sqlite");
+  ASSERT_EQ(ref.code, 0) << ref.out;
+  auto got = metric_values(dir / "results" / "results.sqlite"),
+       reference = metric_values(dir / "ref" / "results.sqlite");
+  ASSERT_EQ(got.size(), 5u);
+  ASSERT_EQ(reference.size(), got.size());
+  for (const auto& [name, value] : reference)
+    EXPECT_TRUE(same_bits(got[name], value))
+        << name << ": resumed " << got[name] << " vs uninterrupted " << value;
+}
+
+// The runner is SIGKILLed while a long job runs (after its first checkpoints); the next run
+// resumes the job from its checkpoint instead of starting over.
+TEST(Checkpoint, RunnerKilledMidJobResumesFromTheCheckpoint) {
+  TempDir dir;
+  write_demo_studies(dir);
+  fs::path db = dir / "results" / "results.sqlite";
+  std::string key = kill_runner_after_a_checkpoint(dir, {}, [&] {
+    auto st = run_runner(dir, "status ckpt", "", "status.txt");
+    EXPECT_CONTAINS(st.out, "running jobs:");
+    EXPECT_CONTAINS(st.out, "%");
+  });
+  ASSERT_FALSE(key.empty()) << "the running job's progress reached the database";
   ASSERT_TRUE(fs::exists(dir / "results" / "ckpt" / key / "checkpoint.h5"));
 
   auto r = run_runner(dir, "slow.toml --checkpoint-every-steps 100");
@@ -307,15 +349,140 @@ steps = 600
   EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE state='abandoned' AND "
                         "failure_class='stale'"),
             1);
+  expect_metrics_of_an_uninterrupted_run(dir);
+}
 
-  auto ref = run_runner(dir, "fast.toml --db ref/results.sqlite");
-  ASSERT_EQ(ref.code, 0) << ref.out;
-  auto resumed = metric_values(db), reference = metric_values(dir / "ref" / "results.sqlite");
-  ASSERT_EQ(resumed.size(), 5u);
-  ASSERT_EQ(reference.size(), resumed.size());
-  for (const auto& [name, value] : reference)
-    EXPECT_TRUE(same_bits(resumed[name], value))
-        << name << ": resumed " << resumed[name] << " vs uninterrupted " << value;
+// A job killed under one build and run again by a build of other solver code (another solver
+// fingerprint: SPH_RUNNER_SOLVER_FINGERPRINT) starts again from t = 0, saying so with both
+// fingerprints; its result is the uninterrupted run's and is recorded under the new fingerprint.
+TEST(Checkpoint, AnotherBuildsCheckpointIsNotContinued) {
+  TempDir dir;
+  write_demo_studies(dir);
+  fs::path db = dir / "results" / "results.sqlite";
+  std::string key =
+      kill_runner_after_a_checkpoint(dir, {{"SPH_RUNNER_SOLVER_FINGERPRINT", "aaaa1111"}});
+  ASSERT_FALSE(key.empty());
+  auto r = run_runner(dir, "slow.toml --checkpoint-every-steps 100",
+                      "SPH_RUNNER_SOLVER_FINGERPRINT=bbbb2222");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string msg =
+      sql_text(db, "SELECT message FROM attempts WHERE attempt=2 AND state='done'");
+  EXPECT_CONTAINS(msg, "written by solver fingerprint aaaa1111, not by this build's bbbb2222");
+  EXPECT_CONTAINS(msg, "restarted from t = 0");
+  EXPECT_EQ(msg.find("resumed"), std::string::npos) << msg;
+  EXPECT_EQ(sql_int(db, "SELECT count(*) FROM attempts WHERE state='done' AND "
+                        "solver_fingerprint='bbbb2222'"),
+            1);
+  expect_metrics_of_an_uninterrupted_run(dir);
+}
+
+// One flipped bit in a state value of checkpoint.h5: the checkpoint fails its SHA-256, is
+// removed, and the job starts again from t = 0 (the uninterrupted run's bits, not a result of
+// the damaged state).
+TEST(Checkpoint, ADamagedCheckpointIsDiscardedAndTheJobRestarts) {
+  TempDir dir;
+  write_demo_studies(dir);
+  fs::path db = dir / "results" / "results.sqlite";
+  std::string key = kill_runner_after_a_checkpoint(dir, {});
+  ASSERT_FALSE(key.empty());
+  const fs::path ck = dir / "results" / "ckpt" / key / "checkpoint.h5";
+  // The bytes of x[5] in the file: its lowest mantissa bit flipped.
+  const std::vector<double> x = io::read_dataset(ck, "state/x");
+  ASSERT_GT(x.size(), 5u);
+  std::string bytes = read_file(ck);
+  const std::size_t at = bytes.find(std::string(reinterpret_cast<const char*>(&x[5]), 8));
+  ASSERT_NE(at, std::string::npos);
+  bytes[at] = static_cast<char>(bytes[at] ^ 1);
+  std::ofstream(ck, std::ios::binary | std::ios::trunc) << bytes;
+  ASSERT_NE(io::read_dataset(ck, "state/x")[5], x[5]);
+
+  auto r = run_runner(dir, "slow.toml --checkpoint-every-steps 100");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string msg =
+      sql_text(db, "SELECT message FROM attempts WHERE attempt=2 AND state='done'");
+  EXPECT_CONTAINS(msg, "the checkpoint failed its SHA-256 check");
+  EXPECT_CONTAINS(msg, "restarted from t = 0");
+  expect_metrics_of_an_uninterrupted_run(dir);
+}
+
+// A checkpoint that is not an HDF5 file at all (or a truncated one) does not fail the job: it is
+// removed with a message and the job starts again from t = 0.
+TEST(Checkpoint, AnUnreadableCheckpointIsDiscardedAndTheJobRestarts) {
+  TempDir dir;
+  write_demo_studies(dir);
+  fs::path db = dir / "results" / "results.sqlite";
+  std::string key = kill_runner_after_a_checkpoint(dir, {});
+  ASSERT_FALSE(key.empty());
+  const fs::path ck = dir / "results" / "ckpt" / key / "checkpoint.h5";
+  const std::string bytes = read_file(ck);
+  std::ofstream(ck, std::ios::binary | std::ios::trunc) << bytes.substr(0, bytes.size() / 2);
+
+  auto r = run_runner(dir, "slow.toml --checkpoint-every-steps 100");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(sql_text(db, "SELECT state FROM jobs"), "done\n");
+  const std::string msg =
+      sql_text(db, "SELECT message FROM attempts WHERE attempt=2 AND state='done'");
+  EXPECT_CONTAINS(msg, "the checkpoint could not be read");
+  EXPECT_CONTAINS(msg, "restarted from t = 0");
+  expect_metrics_of_an_uninterrupted_run(dir);
+}
+
+// In the solver's time loop (a real case): a checkpoint written by other solver code with a
+// valid checksum, whose state is altered, is not continued; the run equals an uninterrupted one.
+TEST(Checkpoint, TheTimeLoopRestartsFromAnotherBuildsCheckpoint) {
+  Params p = case_defaults("taylor_green");
+  p["n_side"] = std::int64_t{20};
+  p["t_end"] = 0.2;
+  const CaseInfo* c = find_case("taylor_green");
+  RunContext plain;
+  RunResult ref = c->run(p, plain);
+  ASSERT_EQ(ref.status, RunStatus::Done);
+
+  TempDir dir;
+  std::atomic<bool> cancel{false};
+  RunContext ctx;
+  ctx.checkpoint_dir = dir / "job";
+  ctx.checkpoint_every_steps = 7;
+  ctx.cancel = &cancel;
+  ctx.progress = [&](double f) {
+    if (f >= 0.5)
+      cancel = true;
+  };
+  ASSERT_EQ(c->run(p, ctx).status, RunStatus::Cancelled);
+  // The same state under another fingerprint (a correct checksum), its velocities doubled: a
+  // continuation would end elsewhere.
+  const fs::path file = dir / "job" / "checkpoint.h5";
+  std::vector<std::string> names;
+  {
+    std::istringstream listed(*io::read_string_attribute(file, "state_arrays"));
+    for (std::string n; std::getline(listed, n);)
+      names.push_back(n);
+  }
+  io::Checkpointer mine(dir / "job");
+  auto st = mine.load(names);
+  ASSERT_TRUE(st.has_value()) << mine.rejection();
+  ASSERT_TRUE(st->arrays.count("p/v"));
+  for (double& v : st->arrays["p/v"])
+    v *= 2;
+  io::Checkpointer(dir / "job", 0, 0, "0123456789abcdef").save(*st);
+
+  cancel = false;
+  ctx.progress = nullptr;
+  ctx.attempt = 2;
+  RunResult second = c->run(p, ctx);
+  ASSERT_EQ(second.status, RunStatus::Done);
+  EXPECT_CONTAINS(second.message, "written by solver fingerprint 0123456789abcdef, not by this "
+                                  "build's " +
+                                      solver_fingerprint());
+  EXPECT_CONTAINS(second.message, "restarted from t = 0");
+  const std::set<std::string> costs{
+      "wall_s", "time_per_particle_step_s", "wall_time_s", "time_per_particle_adv_step_s",
+      "cpu_s",  "time_per_step_s",          "cpu_time_s",  "cpu_time_per_step_s"};
+  ASSERT_EQ(second.metrics.size(), ref.metrics.size());
+  for (std::size_t i = 0; i < ref.metrics.size(); ++i)
+    if (!costs.count(ref.metrics[i].first))
+      EXPECT_TRUE(same_bits(second.metrics[i].second, ref.metrics[i].second))
+          << ref.metrics[i].first;
 }
 
 // Contact SPH flow through the cylinder array (the godunov_cylinders quick tier, corrected):
@@ -373,4 +540,22 @@ TEST(Checkpoint, CylinderFreeStreamResumesToTheSameBits) {
                                 "time_per_step_s", "cpu_time_per_step_s", "cpu_time_s"});
     EXPECT_CONTAINS(msg, "resumed at t = ");
   }
+}
+
+// The message of a diverged run gives its time and speed with 6 significant digits: not
+// "t = 0.000000" for a time of 1e-10 s, nor 301 digits for the 1e300 that stands for a speed
+// that is not finite (that one reads "velocity not finite").
+TEST(TimeLoop, ADivergedRunSaysWhenWithSixSignificantDigits) {
+  Params p = case_defaults("lid_driven_cavity");
+  p["dx"] = 0.05;
+  p["dt"] = 0.05; // far too large: the PPE fails at t = 1.85
+  p["t_end"] = 3.0;
+  RunContext plain;
+  RunResult r = find_case("lid_driven_cavity")->run(p, plain);
+  ASSERT_EQ(r.status, RunStatus::Diverged) << r.message;
+  EXPECT_CONTAINS(r.message, " at t = 1.85");
+  EXPECT_EQ(r.message.find("1.850000"), std::string::npos) << r.message;
+  EXPECT_EQ(message_number(1e300), "1e+300");
+  EXPECT_EQ(message_number(26.6), "26.6");
+  EXPECT_EQ(message_number(3e-10), "3e-10");
 }

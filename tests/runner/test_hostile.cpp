@@ -233,10 +233,11 @@ TEST(Hostile, RunnerDatabasesOfEarlierVersionsAreRecognisedAndMigrated) {
   write_text(dir / "s.toml", patch_study("old", "8"));
   ASSERT_EQ(run_runner(dir, "s.toml --db old.sqlite").code, 0);
   {
-    // What a version-3 runner wrote: no application id, no solver_fingerprint column.
+    // What a version-3 runner wrote: no application id, no solver_fingerprint column, no
+    // attempt_metrics (schema 6).
     Db d((dir / "old.sqlite").string(), SQLITE_OPEN_READWRITE);
-    d.exec("PRAGMA application_id=0; ALTER TABLE attempts DROP COLUMN solver_fingerprint; "
-           "PRAGMA user_version=3");
+    d.exec("DROP VIEW job_attempt_metrics; DROP TABLE attempt_metrics; PRAGMA application_id=0; "
+           "ALTER TABLE attempts DROP COLUMN solver_fingerprint; PRAGMA user_version=3");
   }
   EXPECT_EQ(sql_int(dir / "old.sqlite", "PRAGMA application_id"), 0);
   auto st = run_runner(dir, "status --db old.sqlite");

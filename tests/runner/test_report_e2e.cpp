@@ -274,3 +274,51 @@ expr = "exp(-h_over_dx * x)"
   if (have_gnuplot())
     EXPECT_CONTAINS(read_file(dir / "rep" / "energy.svg"), "<svg");
 }
+
+// The runner records a job's folder relative to the directory it ran in (`--db r/db.sqlite`:
+// r/<study>/<key>); a report made from another directory finds it through the database's own.
+TEST(ReportE2E, SeriesFiguresFindRelativeJobFoldersFromAnotherDirectory) {
+  TempDir dir;
+  write_text(dir / "series.toml", R"toml([study]
+name = "series"
+case = "patch_test"
+[sweep]
+h_over_dx = [1.2, 1.5]
+
+[[figures]]
+name = "energy"
+kind = "series"
+file = "series.h5"
+x = "time"
+y = "energy"
+group = ["h_over_dx"]
+)toml");
+  ASSERT_EQ(run(dir, "series.toml -j 2 --db r/db.sqlite").code, 0);
+  {
+    Db db((dir / "r" / "db.sqlite").string(), SQLITE_OPEN_READWRITE);
+    Stmt q = db.prepare("SELECT key FROM jobs");
+    std::vector<std::string> keys;
+    while (q.step())
+      keys.push_back(q.text(0));
+    ASSERT_EQ(keys.size(), 2u);
+    for (const auto& key : keys) {
+      fs::create_directories(dir / "r" / "series" / key);
+      sph::io::H5Writer w(dir / "r" / "series" / key / "series.h5");
+      w.write("time", {0.0, 0.1, 0.2});
+      w.write("energy", {1.0, 0.9, 0.8});
+      w.close();
+      Stmt u = db.prepare("UPDATE jobs SET output_dir=? WHERE key=?");
+      u.bind(1, "r/series/" + key).bind(2, key); // as a run in dir records it
+      u.run();
+    }
+  }
+  fs::create_directories(dir / "elsewhere");
+  const int status =
+      std::system(("cd '" + (dir / "elsewhere").string() + "' && '" + runner_exe() +
+                   "' report ../series.toml --db ../r/db.sqlite --out rep > " + "out.txt 2>&1")
+                      .c_str());
+  ASSERT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 0)
+      << read_file(dir / "elsewhere" / "out.txt");
+  std::string page = read_file(dir / "elsewhere" / "rep" / "index.html");
+  EXPECT_EQ(count(page, "<td>energy</td><td>3</td>"), 2u) << page;
+}

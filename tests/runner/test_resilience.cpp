@@ -8,6 +8,7 @@
 #include <chrono>
 #include <random>
 #include <set>
+#include <sys/wait.h>
 #include <thread>
 
 using namespace sph::runner;
@@ -54,14 +55,36 @@ void expect_each_job_done_once(const fs::path& db, std::int64_t n) {
 
 } // namespace
 
+// The runner `pid` has claimed a job of the database (polled; false after 20 s).
+bool has_a_running_job(const fs::path& db, pid_t pid) {
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < deadline) {
+    try {
+      if (fs::exists(db) && sql_int(db, "SELECT count(*) FROM jobs WHERE state='running' AND "
+                                        "owner_pid=" +
+                                            std::to_string(pid)) > 0)
+        return true;
+    } catch (...) {
+    }
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) != 0)
+      return false; // it finished (or failed) without us
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
 // The fault-injection test: SIGKILL the runner at random moments at least 20 times while
-// it works through one sweep of 40 jobs (each slowed to ~150 ms), then let it finish.
+// it works through one sweep of 40 jobs (each slowed to ~150 ms), then let it finish. Three kills
+// in four land a random 0-250 ms after the runner claimed its first job of the cycle (mid-sweep,
+// however long a loaded machine takes to start it: jobs are running or being recorded), the
+// fourth a random 30-350 ms after the start (during start-up, registration or the first claims).
 TEST(Resilience, TwentyRandomKillsThenEveryJobDoneExactlyOnce) {
   TempDir dir;
   write_text(dir / "s.toml", forty_jobs);
   fs::path db = dir / "results" / "results.sqlite";
   std::mt19937 rng(std::random_device{}());
-  std::uniform_int_distribution<int> delay_ms(30, 350);
+  std::uniform_int_distribution<int> after_start_ms(30, 350), after_claim_ms(0, 250);
   const std::vector<std::pair<std::string, std::string>> env = {{"SPH_RUNNER_FAULT", "slow=0.15"}};
   int kills = 0, cycles = 0;
   std::set<std::string> done_so_far;
@@ -69,7 +92,10 @@ TEST(Resilience, TwentyRandomKillsThenEveryJobDoneExactlyOnce) {
     ++cycles;
     pid_t pid = spawn_runner(dir.path(), {"s.toml", "-j", "2"}, env, dir / "bg.txt");
     ASSERT_GT(pid, 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+    if (cycles % 4 == 0 || !has_a_running_job(db, pid))
+      std::this_thread::sleep_for(std::chrono::milliseconds(after_start_ms(rng)));
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(after_claim_ms(rng)));
     // Kill only a live runner: a runner that already finished the sweep is not a kill.
     int status = 0;
     if (waitpid(pid, &status, WNOHANG) == 0) {
