@@ -23,8 +23,27 @@
 
 namespace sph {
 
-template <int D, class T, class Kernel>
-struct Visc02 {
+// The pair weight of each reading and its overall factor (policies of Visc02Form).
+struct LapWWeight { // lap W = W'' + (D - 1) W'/r
+  template <int D, class Kernel>
+  static double weight(const Kernel& kernel, const Pair<D>& q) {
+    return kernel.d2W(q.r) + (D - 1) * q.dW / q.r;
+  }
+  template <int D>
+  static constexpr double factor = 1.0;
+};
+struct PrintedWeight { // eq. (16) as printed, W'' - W'/r, with the factor 2 / (D + 2)
+  template <int D, class Kernel>
+  static double weight(const Kernel& kernel, const Pair<D>& q) {
+    return kernel.d2W(q.r) - q.dW / q.r;
+  }
+  template <int D>
+  static constexpr double factor = 2.0 / (D + 2);
+};
+
+// lap u_i = factor sum_j V_j (u_j - u_i) weight_ij.
+template <int D, class T, class Kernel, class Weight>
+struct Visc02Form {
   const std::vector<double>& V;
   const std::vector<T>& u;
   const Kernel& kernel;
@@ -35,28 +54,15 @@ struct Visc02 {
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
-    const double lapW = kernel.d2W(q.r) + (D - 1) * q.dW / q.r;
-    a.s += (V[q.j] * lapW) * (u[q.j] - u[i]);
+    const double w = Weight::template weight<D>(kernel, q);
+    a.s += (V[q.j] * w) * (u[q.j] - u[i]);
   }
-  void finish(std::size_t i, const Acc& a) { out[i] = a.s; }
+  void finish(std::size_t i, const Acc& a) { out[i] = Weight::template factor<D> * a.s; }
 };
 
 template <int D, class T, class Kernel>
-struct Visc02Printed {
-  const std::vector<double>& V;
-  const std::vector<T>& u;
-  const Kernel& kernel;
-  std::vector<T>& out;
-
-  struct Acc {
-    T s = zero<T>();
-  };
-  Acc init(std::size_t) const { return {}; }
-  void pair(std::size_t i, const Pair<D>& q, Acc& a) const {
-    const double F = kernel.d2W(q.r) - q.dW / q.r;
-    a.s += (V[q.j] * F) * (u[q.j] - u[i]);
-  }
-  void finish(std::size_t i, const Acc& a) { out[i] = (2.0 / (D + 2)) * a.s; }
-};
+using Visc02 = Visc02Form<D, T, Kernel, LapWWeight>;
+template <int D, class T, class Kernel>
+using Visc02Printed = Visc02Form<D, T, Kernel, PrintedWeight>;
 
 } // namespace sph
