@@ -708,11 +708,14 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
 
 namespace {
 
-struct ConvergeRow {
-  double x;
-  double f;
-  nlohmann::json params;
-};
+// A job's parameters as ConvergeRow holds them: name -> the value as JSON text.
+std::map<std::string, std::string> dumped(const nlohmann::json& p) {
+  std::map<std::string, std::string> out;
+  if (p.is_object())
+    for (const auto& [k, v] : p.items())
+      out[k] = v.dump();
+  return out;
+}
 
 // The rows of `runner converge` from the database: the study's current jobs with the metric.
 std::vector<ConvergeRow> converge_rows_db(const std::filesystem::path& db_path,
@@ -742,7 +745,7 @@ std::vector<ConvergeRow> converge_rows_db(const std::filesystem::path& db_path,
       throw std::runtime_error("--param '" + c.param + "' has a non-numeric value '" +
                                cell_text(m.row) + "'");
     rows.push_back({m.row.type == SQLITE_INTEGER ? static_cast<double>(m.row.integer) : m.row.real,
-                    m.value, nlohmann::json::parse(m.params, nullptr, false)});
+                    m.value, dumped(nlohmann::json::parse(m.params, nullptr, false))});
   }
   return rows;
 }
@@ -806,7 +809,7 @@ std::vector<ConvergeRow> converge_rows_csv(const std::filesystem::path& file,
       param_numeric = false;
       continue;
     }
-    rows.push_back({it->get<double>(), std::strtod(f[6].c_str(), nullptr), p});
+    rows.push_back({it->get<double>(), std::strtod(f[6].c_str(), nullptr), dumped(p)});
   }
   if (!params_seen.count(c.param)) {
     const std::vector<std::string> names(params_seen.begin(), params_seen.end());
@@ -829,18 +832,8 @@ std::vector<ConvergeRow> converge_rows_csv(const std::filesystem::path& file,
 
 } // namespace
 
-int cmd_converge(const std::filesystem::path& db_path, const ConvergeOptions& c,
-                 std::ostream& out) {
-  if (c.kind != "self" && c.kind != "error")
-    throw std::runtime_error("--kind must be self or error");
-  if (c.resolution != "auto" && c.resolution != "spacing" && c.resolution != "count")
-    throw std::runtime_error("--resolution must be auto, spacing or count");
-  if (c.format != "text" && c.format != "csv" && c.format != "markdown")
-    throw std::runtime_error("--format must be text, csv or markdown");
-  json_path(c.param);
+ConvergeTable converge_table(const std::vector<ConvergeRow>& rows, const ConvergeOptions& c) {
   using Row = ConvergeRow;
-  const std::vector<Row> rows =
-      c.published.empty() ? converge_rows_db(db_path, c) : converge_rows_csv(c.published, c);
   // A count (n_side, D_over_dx) when every value is a whole number >= 2, else a spacing.
   bool count = c.resolution == "count";
   if (c.resolution == "auto") {
@@ -853,10 +846,9 @@ int cmd_converge(const std::filesystem::path& db_path, const ConvergeOptions& c,
   std::map<std::string, std::set<std::string>> values;
   std::map<std::string, std::map<double, std::set<std::string>>> by_x;
   for (const Row& r : rows)
-    if (r.params.is_object())
-      for (const auto& [k, v] : r.params.items())
-        if (k != c.param)
-          values[k].insert(v.dump()), by_x[k][r.x].insert(v.dump());
+    for (const auto& [k, v] : r.params)
+      if (k != c.param)
+        values[k].insert(v), by_x[k][r.x].insert(v);
   std::vector<std::string> group_keys;
   for (const auto& [k, vs] : values) {
     if (vs.size() < 2 || std::find(c.ignore.begin(), c.ignore.end(), k) != c.ignore.end())
@@ -872,23 +864,24 @@ int cmd_converge(const std::filesystem::path& db_path, const ConvergeOptions& c,
     std::string label;
     for (const auto& k : group_keys) {
       const auto it = r.params.find(k);
-      std::string v = it == r.params.end() ? "-" : it->dump();
+      std::string v = it == r.params.end() ? "-" : it->second;
       if (v.size() > 1 && v.front() == '"')
         v = v.substr(1, v.size() - 2);
       label += (label.empty() ? "" : " ") + k + "=" + v;
     }
     groups[label][r.x].push_back(r.f);
   }
-  const bool text = c.format == "text", md = c.format == "markdown";
-  std::vector<std::string> header = {"group", "resolutions", c.param + " finest",
-                                     c.metric + " finest"};
+  ConvergeTable t;
+  t.count = count;
+  std::vector<std::string>& header = t.header;
+  header = {"group", "resolutions", c.param + " finest", c.metric + " finest"};
   if (c.kind == "self")
     for (const char* s : {"p", "extrapolated", "GCI_fine %", "note"})
       header.push_back(s);
   else
     for (const char* s : {"p (finest pair)", "p (fit, all)", "note"})
       header.push_back(s);
-  std::vector<std::vector<std::string>> table;
+  std::vector<std::vector<std::string>>& table = t.rows;
   auto num = [](std::optional<double> v, const char* fmt = "%.4g") {
     if (!v)
       return std::string();
@@ -937,6 +930,24 @@ int cmd_converge(const std::filesystem::path& db_path, const ConvergeOptions& c,
           (row.back().empty() ? "" : "; ") + std::string("mean of several jobs per resolution");
     table.push_back(row);
   }
+  return t;
+}
+
+int cmd_converge(const std::filesystem::path& db_path, const ConvergeOptions& c,
+                 std::ostream& out) {
+  if (c.kind != "self" && c.kind != "error")
+    throw std::runtime_error("--kind must be self or error");
+  if (c.resolution != "auto" && c.resolution != "spacing" && c.resolution != "count")
+    throw std::runtime_error("--resolution must be auto, spacing or count");
+  if (c.format != "text" && c.format != "csv" && c.format != "markdown")
+    throw std::runtime_error("--format must be text, csv or markdown");
+  json_path(c.param);
+  const ConvergeTable t = converge_table(
+      c.published.empty() ? converge_rows_db(db_path, c) : converge_rows_csv(c.published, c), c);
+  const bool count = t.count;
+  const std::vector<std::string>& header = t.header;
+  const std::vector<std::vector<std::string>>& table = t.rows;
+  const bool text = c.format == "text", md = c.format == "markdown";
   if (text) {
     out << c.study << ": " << c.metric << " against " << c.param
         << (count ? " (a count: spacing h = 1/" + c.param + ")" : " (a spacing)") << ", "

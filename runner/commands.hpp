@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -48,6 +49,22 @@ struct ConvergeOptions {
   std::string published; // read a published record (docs/results/STUDY.csv) instead of the db
 };
 int cmd_converge(const std::filesystem::path& db, const ConvergeOptions& c, std::ostream& out);
+
+// One job's value of the metric at its resolution x, with its parameters (name -> value as JSON
+// text), as `runner converge` and the report's convergence figures read them.
+struct ConvergeRow {
+  double x = 0;
+  double f = 0;
+  std::map<std::string, std::string> params;
+};
+// The table `runner converge` prints: one row per group of the other varying parameters (those
+// that are a function of the resolution do not split groups), columns as `header`.
+struct ConvergeTable {
+  bool count = false; // the resolution is a count (spacing h = 1 / x)
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+ConvergeTable converge_table(const std::vector<ConvergeRow>& rows, const ConvergeOptions& c);
 
 // One row (csv) or object (json) per job of a study: key, state, scheme, parameters, metrics.
 int cmd_export(const std::filesystem::path& db, const std::string& study, const std::string& format,

@@ -2,10 +2,12 @@
 // fits slopes, draws the figures with gnuplot and writes a static HTML page with every table.
 #include "report.hpp"
 
+#include "commands.hpp"
 #include "diagnostics.hpp"
 #include "io/hdf5.hpp"
 #include "params.hpp"
 #include "provenance.hpp"
+#include "search.hpp"
 #include "store.hpp"
 #include "study.hpp"
 
@@ -182,12 +184,13 @@ struct FigureReport {
   std::vector<json> xs;                  // x values (metric figures), sorted
   // pivot[y][group][x index] (metric figures)
   std::vector<std::vector<std::map<std::size_t, Cell>>> pivot;
-  std::vector<const Job*> marked;       // jobs drawn as markers
-  std::size_t jobs_used = 0;            // jobs matching `where`
-  std::vector<std::string> problems;    // e.g. unreadable HDF5 files
-  std::vector<std::string> series_rows; // series figures: per-job summary rows (HTML)
-  std::string image;                    // file name when drawn
-  std::string image_note;               // why there is no image
+  std::vector<const Job*> marked;           // jobs drawn as markers
+  std::size_t jobs_used = 0;                // jobs matching `where`
+  std::vector<std::string> problems;        // e.g. unreadable HDF5 files
+  std::vector<std::string> series_rows;     // series figures: per-job summary rows (HTML)
+  std::string image;                        // file name when drawn
+  std::string image_note;                   // why there is no image
+  std::optional<ConvergeTable> convergence; // kind = "convergence": the `runner converge` table
 };
 
 bool matches(const FigureSpec& f, const Job& j) {
@@ -298,6 +301,30 @@ std::vector<const Job*> finished_jobs_of(const FigureSpec& f, const std::vector<
     if (matches(f, j) && j.state != "pending" && j.state != "running" && j.state != "submitted")
       jobs.push_back(&j);
   return jobs;
+}
+
+// A convergence figure's table: `runner converge` over the figure's finished (done) jobs, so the
+// report and the command agree on the same jobs.
+std::optional<ConvergeTable> convergence_of(const FigureSpec& f, const std::string& study,
+                                            const std::vector<Job>& all) {
+  ConvergeOptions c;
+  c.study = study, c.param = f.x, c.metric = f.y.front(), c.kind = *f.convergence;
+  c.resolution = f.resolution, c.formal_order = f.formal_order, c.ignore = f.ignore;
+  std::vector<ConvergeRow> rows;
+  for (const Job* j : finished_jobs_of(f, all)) {
+    const auto m = j->metrics.find(c.metric);
+    const auto x = j->params.find(f.x);
+    if (j->state != "done" || m == j->metrics.end() || !m->second || x == j->params.end() ||
+        !x->is_number())
+      continue;
+    ConvergeRow row{x->get<double>(), *m->second, {}};
+    for (const auto& [k, v] : j->params.items())
+      row.params[k] = v.dump();
+    rows.push_back(std::move(row));
+  }
+  if (rows.empty())
+    return std::nullopt;
+  return converge_table(rows, c);
 }
 
 // Why a figure has no data, in the words of its declaration: no finished job at all, none with the
@@ -631,6 +658,8 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
   for (const auto& f : figures) {
     FigureReport r =
         f.kind == "series" ? build_series_figure(f, jobs) : build_metric_figure(f, jobs);
+    if (f.convergence)
+      r.convergence = convergence_of(f, study.name, jobs);
     std::string image = f.name + "." + o.image_format;
     std::string script = gnuplot_script(r.data, image, o.image_format);
     // The data as CSV, for readers who want the numbers behind the figure.
@@ -695,6 +724,31 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
       h << "<li><a href=\"#" << html(f.name) << "\">" << html(f.title.empty() ? f.name : f.title)
         << "</a></li>\n";
     h << "</ul>\n";
+  }
+
+  // A study with [search]: the bracket of every group (as the search and --dry-run print them).
+  if (study.search) {
+    RunOptions ro;
+    ro.db_path = o.db, ro.tier = o.tier;
+    const Search& s = *study.search;
+    h << "<section id=\"search\" class=\"figure\">\n<h2>Stability edge of " << html(s.param)
+      << "</h2>\n<table class=\"search\"><caption>"
+      << html("Bisection between lo = " + format_real(s.lo) +
+              " (stable) and hi = " + format_real(s.hi) +
+              " (unstable) until |edge_hi - edge_lo| <= " + format_real(s.until) + " edge_lo" +
+              (s.log ? ", on a log scale" : "") + "; each probe is a job of the study")
+      << "</caption>\n<tr><th>group</th><th>probes</th><th>edge_lo (stable)</th>"
+      << "<th>edge_hi (unstable)</th><th>state</th></tr>\n";
+    for (const GroupBracket& g : search_brackets(study, ro, &store)) {
+      const Bracket& b = g.bracket;
+      h << "<tr><td>" << html(g.label) << "</td><td class=\"num\">" << b.probes
+        << "</td><td class=\"num\">" << (b.a ? html(format_real(*b.a)) : "")
+        << "</td><td class=\"num\">" << (b.b ? html(format_real(*b.b)) : "") << "</td><td>"
+        << html(b.state + (b.non_monotone ? "; a stable probe lies beyond edge_hi" : "") +
+                (b.next ? "; next probe " + format_real(*b.next) : ""))
+        << "</td></tr>\n";
+    }
+    h << "</table>\n</section>\n";
   }
 
   for (const auto& r : reports) {
@@ -767,6 +821,36 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
       h << "</table>\n";
     }
     (void)any_fit;
+
+    if (f.convergence) {
+      h << "<table class=\"convergence\" data-figure=\"" << html(f.name) << "\"><caption>"
+        << html(*f.convergence == "self"
+                    ? "Grid convergence of " + f.y.front() + " against " + f.x +
+                          ": observed order from the three finest resolutions (Celik et al. "
+                          "2008), Richardson extrapolation, GCI of the finest (Roache 1994; "
+                          "Fs = 1.25, 3 with two resolutions)"
+                    : "Order of the error " + f.y.front() + " against " + f.x +
+                          ": from the finest pair and a least-squares fit of ln|error| against "
+                          "ln h")
+        << (r.convergence && r.convergence->count ? html(" (a count: h = 1/" + f.x + ")") : "")
+        << "</caption>\n";
+      if (!r.convergence)
+        h << "<tr><td>no finished job with " << html(f.y.front()) << "</td></tr>\n";
+      else {
+        h << "<tr>";
+        for (const auto& c : r.convergence->header)
+          h << "<th>" << html(c) << "</th>";
+        h << "</tr>\n";
+        for (const auto& row : r.convergence->rows) {
+          h << "<tr>";
+          for (std::size_t k = 0; k < row.size(); ++k)
+            h << (k < 2 || k + 1 == row.size() ? "<td>" : "<td class=\"num\">") << html(row[k])
+              << "</td>";
+          h << "</tr>\n";
+        }
+      }
+      h << "</table>\n";
+    }
 
     if (f.kind == "metric") {
       json base = json::object();

@@ -21,11 +21,15 @@ int line_of(const toml::node& n) {
 }
 
 const std::vector<std::string> figure_keys = {
-    "name",   "title", "kind",  "x",       "y",       "file", "group",     "where", "agg",
-    "spread", "log_x", "log_y", "x_label", "y_label", "fit",  "fit_range", "mark",  "reference"};
+    "name",        "title",      "kind",         "x",         "y",     "file",
+    "group",       "where",      "agg",          "spread",    "log_x", "log_y",
+    "x_label",     "y_label",    "fit",          "fit_range", "mark",  "reference",
+    "convergence", "resolution", "formal_order", "ignore"};
 const std::vector<std::string> reference_keys = {"label", "citation", "expr", "csv",
                                                  "x",     "y",        "style"};
-const std::vector<std::string> kinds = {"metric", "series"};
+const std::vector<std::string> kinds = {"metric", "series", "convergence"};
+const std::vector<std::string> convergence_kinds = {"self", "error"};
+const std::vector<std::string> resolutions = {"auto", "spacing", "count"};
 const std::vector<std::string> aggs = {"mean", "median", "min", "max"};
 const std::vector<std::string> fits = {"none", "power", "linear"};
 const std::vector<std::string> markable = {"diverged", "failed", "timeout"};
@@ -169,6 +173,34 @@ private:
       f.kind = *s;
       one_of(f.kind, kinds, line_of(*t.get("kind")), where + " kind");
     }
+    // kind = "convergence": a metric figure of one metric against a resolution, with the table of
+    // `runner converge` (order, extrapolated value, GCI per group) beneath it.
+    if (f.kind == "convergence") {
+      f.kind = "metric";
+      f.convergence = "self";
+      if (auto s = str(t, "convergence", where)) {
+        f.convergence = *s;
+        one_of(*s, convergence_kinds, line_of(*t.get("convergence")), where + " convergence");
+      }
+      if (auto s = str(t, "resolution", where)) {
+        f.resolution = *s;
+        one_of(*s, resolutions, line_of(*t.get("resolution")), where + " resolution");
+      }
+      if (const toml::node* n = t.get("formal_order")) {
+        if (auto v = n->value<double>(); v && *v > 0)
+          f.formal_order = *v;
+        else
+          diag_.error(line_of(*n), where + " formal_order: expected a positive number");
+      }
+      f.ignore = strings(t, "ignore", where);
+      for (const auto& g : f.ignore)
+        param(g, line_of(*t.get("ignore")), where + " ignore");
+    } else {
+      for (const char* key : {"convergence", "resolution", "formal_order", "ignore"})
+        if (const toml::node* n = t.get(key))
+          diag_.error(line_of(*n),
+                      where + " " + key + ": only figures of kind = \"convergence\" take it");
+    }
     const bool series = f.kind == "series";
     if (auto s = str(t, "file", where)) {
       f.file = *s;
@@ -251,6 +283,13 @@ private:
       f.fit = *s;
       one_of(f.fit, fits, line_of(*t.get("fit")), where + " fit");
     }
+    if (f.convergence && f.y.size() > 1)
+      diag_.error(line_of(*t.get("y")),
+                  where + " y: a convergence figure takes one metric (write one figure each)");
+    if (f.convergence && f.x_is_string)
+      diag_.error(line_of(*t.get("x")), where + " x: '" + f.x +
+                                            "' is not a number; a convergence figure needs a "
+                                            "resolution such as dx or n_side");
     if (f.x_is_string && f.log_x)
       diag_.error(line_of(*t.get("log_x")),
                   where + " log_x: x = '" + f.x + "' is not a number; it cannot be on a log axis");

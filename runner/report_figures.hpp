@@ -36,6 +36,7 @@ struct FigureSpec {
   std::string name; // file stem of the image and data files
   std::string title;
   std::string kind = "metric"; // "metric": one point per job; "series": one curve per job (HDF5)
+                               // ("convergence" in the file: a metric figure, see below)
   std::string x;               // metric: a parameter or "scheme"; series: a dataset name
   std::vector<std::string> y;  // metric: metric names; series: dataset names
   std::string file;            // series: HDF5 file in the job's output directory
@@ -50,6 +51,14 @@ struct FigureSpec {
   std::vector<std::string> mark = {"diverged"};       // job states drawn as markers
   bool x_is_string = false;                           // x is a string parameter (categories)
   std::vector<ReferenceSeries> references;
+  // kind = "convergence" (stored as a metric figure with these set): the table of `runner
+  // converge` beneath the figure: "self" (the metric converges to a value) or "error" (it tends
+  // to 0), how x is a resolution (auto, spacing, count), a formal order for two resolutions, and
+  // parameters that do not split the groups.
+  std::optional<std::string> convergence;
+  std::string resolution = "auto";
+  std::optional<double> formal_order;
+  std::vector<std::string> ignore;
   int line = 0;
 };
 

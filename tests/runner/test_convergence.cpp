@@ -115,6 +115,14 @@ lattice = "uniform"
 [sweep]
 visc = ["visc03", "visc04"]
 n_side = [40, 60, 80]
+
+[[figures]]
+name = "order"
+kind = "convergence"
+x = "n_side"
+y = "err_l2"
+group = ["visc"]
+where = { lattice = "uniform" }
 )");
   ASSERT_EQ(run_runner(dir, "p.toml -j 1").code, 0);
   const CmdResult r = run_runner(
@@ -136,6 +144,23 @@ n_side = [40, 60, 80]
     ++rows;
   }
   EXPECT_EQ(rows, 2);
+  // The report's convergence figure holds the same table (the same jobs, the same numbers).
+  const CmdResult rep = run_runner(dir, "report p.toml --out rep");
+  ASSERT_EQ(rep.code, 0) << rep.out;
+  const std::string page = read_file(dir / "rep" / "index.html");
+  const auto table_at = page.find("<table class=\"convergence\" data-figure=\"order\">");
+  ASSERT_NE(table_at, std::string::npos) << page;
+  const std::string table = page.substr(table_at, page.find("</table>", table_at) - table_at);
+  std::istringstream again(r.out);
+  std::getline(again, line);
+  while (std::getline(again, line)) {
+    const std::vector<std::string> f = csv_split(line);
+    std::string cells = "<tr>";
+    for (std::size_t k = 0; k < f.size(); ++k)
+      cells +=
+          std::string(k < 2 || k + 1 == f.size() ? "<td>" : "<td class=\"num\">") + f[k] + "</td>";
+    EXPECT_NE(table.find(cells + "</tr>"), std::string::npos) << cells << "\n" << table;
+  }
   // The error kind on the same rows: the finest pair's order.
   const CmdResult e = run_runner(dir, "converge conv --param n_side --value err_l2 --kind error");
   ASSERT_EQ(e.code, 0) << e.out;

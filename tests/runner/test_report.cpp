@@ -176,12 +176,26 @@ TEST(ReportFigures, TheShippedStudiesDeclareValidFigures) {
   }
   fs::path vp = source_dir() / "studies" / "visc_patch.toml";
   auto figs = load_figures(vp, load_study(vp).specs);
-  ASSERT_EQ(figs.size(), 2u);
+  ASSERT_EQ(figs.size(), 3u);
   for (const auto& f : figs) {
     EXPECT_TRUE(f.log_x && f.log_y);
+    if (f.convergence) { // the grid-convergence figure of err_l2 (kind = "convergence")
+      EXPECT_EQ(f.name, "order_uniform");
+      EXPECT_EQ(*f.convergence, "self");
+      EXPECT_EQ(f.kind, "metric");
+      EXPECT_EQ(f.y, (std::vector<std::string>{"err_l2"}));
+      continue;
+    }
     EXPECT_EQ(f.fit, "power");
     EXPECT_EQ(f.y, (std::vector<std::string>{"err", "err_l2"}));
   }
+  // A convergence key on another kind, or two metrics in a convergence figure, are refused.
+  const std::string base = "[[figures]]\nname = \"a\"\nx = \"n_side\"\n";
+  for (const std::string bad : {base + "y = \"err\"\nconvergence = \"self\"\n",
+                                base + "kind = \"convergence\"\ny = [\"err\", \"err_l2\"]\n",
+                                base + "kind = \"convergence\"\ny = \"err\"\nconvergence = "
+                                       "\"order\"\n"})
+    EXPECT_THROW(parse_figures_text(bad, "f.toml", load_study(vp).specs), StudyError) << bad;
 }
 
 TEST(ReportFit, PowerLawRecoversTheExponent) {

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <regex>
 #include <thread>
 
 using namespace sph::runner;
@@ -176,6 +177,33 @@ scale = "log"
                                                 g));
     EXPECT_LT(a, b);
     EXPECT_LE(b - a, 0.25 * a) << "algorithm " << alg;
+  }
+  // The report shows each group's bracket, the same as the database's probes give.
+  const CmdResult rep = run_runner(dir, "report edge.toml --out rep");
+  ASSERT_EQ(rep.code, 0) << rep.out;
+  const std::string page = read_file(dir / "rep" / "index.html");
+  ASSERT_NE(page.find("Stability edge of dt_star"), std::string::npos) << page;
+  for (int alg : {1, 2}) {
+    const std::string g = "json_extract(params_json,'$.algorithm')=" + std::to_string(alg);
+    const std::string a = sql_text(
+        db,
+        "SELECT max(json_extract(params_json,'$.dt_star')) FROM jobs WHERE state='done' AND " + g);
+    const std::string b = sql_text(db, "SELECT min(json_extract(params_json,'$.dt_star')) FROM "
+                                       "jobs WHERE state='diverged' AND " +
+                                           g);
+    const std::string row = "<tr><td>algorithm=" + std::to_string(alg) + "</td>";
+    const auto at = page.find(row);
+    ASSERT_NE(at, std::string::npos) << row << "\n" << page;
+    const std::string line = page.substr(at, page.find("</tr>", at) - at);
+    // Its numeric cells: probes, edge_lo, edge_hi.
+    std::vector<double> num;
+    const std::regex cell("<td class=\"num\">([^<]*)</td>");
+    for (std::sregex_iterator m(line.begin(), line.end(), cell), end; m != end; ++m)
+      num.push_back(std::stod((*m)[1]));
+    ASSERT_EQ(num.size(), 3u) << line;
+    EXPECT_NEAR(num[1], std::stod(a), 1e-12 * std::stod(a)) << line;
+    EXPECT_NEAR(num[2], std::stod(b), 1e-12 * std::stod(b)) << line;
+    EXPECT_NE(line.find("bracketed"), std::string::npos) << line;
   }
   // A second run finds nothing to do.
   const std::int64_t attempts = sql_int(db, "SELECT count(*) FROM attempts");
