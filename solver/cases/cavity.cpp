@@ -13,8 +13,9 @@
 // scheme's kernel; with an output directory <output_dir>/<case>.h5 holds the history, the
 // fine-line profiles and the final fields.
 //
-// Metrics besides the profiles: ke, t_stop, steady, density_dev_max, n_fluid, the scheme's own
-// (isph: div_max, div_max_x, div_max_y, div_rms of the last measured step, ppe_*; wcsph_tvf:
+// Metrics besides the profiles: ke, t_stop, steady, density_dev_max, n_fluid, fluid_outside (fluid
+// particles that ended the run outside the fluid domain, i.e. went through a wall), the scheme's
+// own (isph: div_max, div_max_x, div_max_y, div_rms of the last measured step, ppe_*; wcsph_tvf:
 // acoustic_steps) and the loop's costs (steps, wall_time_s, time_per_step_s, cpu_time_per_step_s,
 // time_per_particle_step_s, n_particles).
 //
@@ -64,7 +65,9 @@ int build_cavity(Particles<2>& p, const CavityGeometry& g) {
                                 p.add(x, m, rho0, Kind::Fluid), vw.push_back(Vec2::Zero());
                               } else {
                                 p.add(x, m, rho0, Kind::Wall);
-                                vw.push_back(i[1] >= n ? Vec2(g.U0, 0.0) : Vec2::Zero());
+                                const bool over_cavity = i[0] >= 0 && i[0] < n;
+                                const bool lid = i[1] >= n && (g.lid_corners_move || over_cavity);
+                                vw.push_back(lid ? Vec2(g.U0, 0.0) : Vec2::Zero());
                               }
                             });
   const int f = p.add_vector("v_wall");
@@ -78,6 +81,7 @@ CavityGeometry cavity_geometry(const Params& prm, bool cylinder, double support)
   g.U0 = 1.0;
   g.layers = static_cast<int>(std::ceil(support / g.dx - 1e-9));
   g.cylinder_d = cylinder ? get_real(prm, "cylinder_d") : 0.0;
+  g.lid_corners_move = get_string(prm, "lid_corners") == "moving";
   return g;
 }
 
@@ -114,6 +118,18 @@ std::vector<ParamSpec> cavity_params(bool cylinder) {
        {},
        false},
   };
+  ParamSpec corners{
+      "lid_corners",
+      ParamType::String,
+      std::string("moving"),
+      "wall particles of the lid band above the side walls (2D: x < 0, x > 1; 3D: "
+      "outside 0 < x, y < 1): moving with the lid, or resting (part of the side walls)",
+      {},
+      {},
+      false,
+      {"moving", "resting"}};
+  corners.neutral_default = true; // added later: the jobs without it keep their keys
+  s.push_back(corners);
   if (cylinder)
     s.push_back(
         {"cylinder_d", ParamType::Real, 0.5, "cylinder diameter / L (centred)", 0.0, 0.9, true});
@@ -166,6 +182,7 @@ public:
     res.add("steady", mon_.steady() ? 1.0 : 0.0);
     res.add("density_dev_max", mon_.density_dev_max());
     res.add("n_fluid", static_cast<double>(n_fluid_));
+    res.add("fluid_outside", static_cast<double>(fluid_outside(R)));
     const CavityAttributes attrs{prm_, job_key_, {{"t_stop", at.t}}};
     write_cavity_h5(output_dir_, cylinder_, attrs, mon_.history_names(), mon_.history(), prof, *p_);
   }
@@ -188,6 +205,20 @@ private:
   CavityGeometry g_;
   Particles<2>* p_ = nullptr;
   std::size_t n_fluid_ = 0;
+
+  // Fluid particles that have left the fluid domain (x or y outside [0, 1], or inside the
+  // cylinder of radius R): particles that went through a wall.
+  std::size_t fluid_outside(double R) const {
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < p_->size(); ++i) {
+      if (p_->kind[i] != Kind::Fluid)
+        continue;
+      const Vec2& x = p_->r[i];
+      const bool out = x.x() < 0.0 || x.x() > 1.0 || x.y() < 0.0 || x.y() > 1.0;
+      k += out || (R > 0.0 && (x - Vec2(0.5, 0.5)).norm() < R);
+    }
+    return k;
+  }
 };
 
 } // namespace

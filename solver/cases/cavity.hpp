@@ -5,8 +5,11 @@
 //
 // Geometry: unit square cavity H = L = 1, fluid particles on the cell-centred lattice
 // ((i + 1/2) dx, (j + 1/2) dx), surrounded by `layers` layers of wall particles on the same
-// lattice. Wall particles above y = 1 (the whole top band, corners included) form the lid with
-// prescribed velocity (U0, 0); the others are at rest. With cylinder_d > 0 a cylinder of that
+// lattice. Wall particles above y = 1 form the lid with prescribed velocity (U0, 0): the whole top
+// band, the corner columns above the side walls (x < 0, x > 1) included (lid_corners = "moving",
+// the default), or only the columns above the cavity, 0 < x < 1 (lid_corners = "resting": the
+// corner columns belong to the side walls and are at rest); the others are at rest. With
+// cylinder_d > 0 a cylinder of that
 // diameter at (0.5, 0.5): lattice points inside it within `layers` dx of its surface are Body
 // particles at rest, deeper points are left out. Mass m = rho0 dx^2, rho0 = 1.
 #pragma once
@@ -30,15 +33,16 @@ struct CavityGeometry {
   double dx = 0.01;
   int layers = 3;
   double U0 = 1.0;
-  double cylinder_d = 0.0; // 0: empty cavity
+  double cylinder_d = 0.0;      // 0: empty cavity
+  bool lid_corners_move = true; // the lid band's corner columns (x < 0, x > 1) move with the lid
 };
 
 // Fills p (must be empty) and returns the index of the vector field "v_wall" holding every
 // particle's prescribed wall velocity (zero for fluid). Throws if 1/dx is not an integer.
 int build_cavity(Particles<2>& p, const CavityGeometry& g);
 
-// The geometry of a cavity job: dx and (with a cylinder) cylinder_d from its parameters, U0 = 1,
-// wall layers one kernel support deep.
+// The geometry of a cavity job: dx, lid_corners and (with a cylinder) cylinder_d from its
+// parameters, U0 = 1, wall layers one kernel support deep.
 CavityGeometry cavity_geometry(const Params& prm, bool cylinder, double support);
 
 // The cases' own parameters (Re, dx, dt, t_end, steady-state criterion, output interval); the

@@ -4,7 +4,8 @@
 //
 // Geometry: unit cube, fluid on the cell-centred lattice ((i + 1/2) dx, ...), surrounded by wall
 // layers one kernel support deep on the same lattice; the wall particles above z = 1 (the whole top
-// band, edges included) form the lid moving at (U0, 0, 0), U0 = 1; the others are at rest
+// band, edges included; with lid_corners = "resting" only those above 0 < x, y < 1) form the lid
+// moving at (U0, 0, 0), U0 = 1; the others are at rest
 // (no-slip). rho0 = 1, m = rho0 dx^3, nu = U0 L / Re. Steady state and sampling as the 2D cavity
 // (cases/cavity.hpp: CavityMonitor, the steady window and the history of both cases).
 //
@@ -99,6 +100,7 @@ public:
     const int L = static_cast<int>(std::ceil(support / dx_ - 1e-9));
     const double m = dx_ * dx_ * dx_;
     std::vector<Vec3> vw;
+    const bool edges_move = get_string(prm_, "lid_corners") == "moving";
     for_each_lattice_point<3>(
         {-L, -L, -L}, {n + L, n + L, n + L}, dx_, [&](const Vec3& x, const std::array<int, 3>& i) {
           bool inside = true;
@@ -106,7 +108,9 @@ public:
             inside = inside && i[a] >= 0 && i[a] < n;
           p.add(x, m, 1.0, inside ? Kind::Fluid : Kind::Wall);
           n_fluid_ += inside;
-          vw.push_back(!inside && i[2] >= n ? Vec3(U0, 0.0, 0.0) : Vec3::Zero());
+          const bool over_cavity = i[0] >= 0 && i[0] < n && i[1] >= 0 && i[1] < n;
+          const bool lid = !inside && i[2] >= n && (edges_move || over_cavity);
+          vw.push_back(lid ? Vec3(U0, 0.0, 0.0) : Vec3::Zero());
         });
     Flow<3> f;
     f.v_wall = p.add_vector("v_wall");

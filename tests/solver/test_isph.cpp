@@ -41,6 +41,20 @@ TEST(Cavity, GeometryHasLayersLidAndCylinder) {
   EXPECT_EQ(nf, 100u);
   EXPECT_EQ(nw, 16u * 16u - 100u);
   EXPECT_EQ(nlid, 3u * 16u);
+  // lid_corners = "resting": only the 3 x 10 lid particles above 0 < x < 1 move.
+  Particles<2> r;
+  g.lid_corners_move = false;
+  const int fr = build_cavity(r, g);
+  std::size_t nlid_r = 0;
+  for (std::size_t i = 0; i < r.size(); ++i)
+    if (r.vector(fr)[i].x() == 1.0) {
+      ++nlid_r;
+      EXPECT_GT(r.r[i].y(), 1.0);
+      EXPECT_GT(r.r[i].x(), 0.0);
+      EXPECT_LT(r.r[i].x(), 1.0);
+    }
+  EXPECT_EQ(nlid_r, 3u * 10u);
+  g.lid_corners_move = true;
   Particles<2> q;
   g.cylinder_d = 0.5;
   build_cavity(q, g);
@@ -129,6 +143,50 @@ TEST(Isph, WallClearanceMovesAndCountsTheParticle) {
         }
       }
     EXPECT_EQ(s.clearance_corrections(), clearance > 0.0 ? 1 : 0);
+  }
+}
+
+// The gap between two neighbouring wall particles (dx apart): a fluid particle 0.1 dx above the
+// bottom row's line, midway between two of its particles, moving into the wall, is 0.51 dx from
+// both, so wall_clearance = 0.5 alone does not stop it (it ends the step inside the wall band,
+// y < 0, uncorrected). With wall_clearance_gaps it is kept 0.5 dx from the gap's midpoint: back on
+// the fluid side (y = 0), its velocity into the wall removed, one correction counted.
+TEST(Isph, WallClearanceGapsCloseTheGapBetweenWallParticles) {
+  for (bool gaps : {false, true}) {
+    SCOPED_TRACE(gaps ? "wall_clearance_gaps" : "particles only");
+    Particles<2> p;
+    CavityGeometry g;
+    g.dx = 0.05, g.U0 = 0.0;
+    const int f = build_cavity(p, g);
+    const Vec2 gap(0.05, -0.025); // midpoint of the wall particles (0.025, -0.025), (0.075, -0.025)
+    std::int64_t moved = -1;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == Kind::Fluid && (p.r[i] - Vec2(0.025, 0.025)).norm() < 1e-12) {
+        p.r[i] = gap + Vec2(0.0, 0.1 * g.dx);
+        p.v[i] = Vec2(0.0, -0.1);
+        moved = p.id[i];
+      }
+    ASSERT_GE(moved, 0);
+    CubicSpline<2> W(1.2 * g.dx);
+    IsphOptions opt;
+    opt.shifting = false;
+    opt.alpha_ppe = 0.0;
+    opt.wall_clearance_gaps = gaps;
+    Isph<2, CubicSpline<2>> s(p, Domain<2>{}, W, opt, f, 1e-3, 1e-4, g.dx);
+    s.step();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.id[i] == moved) {
+        if (gaps) {
+          const Vec2 d = p.r[i] - gap;
+          EXPECT_NEAR(d.norm(), 0.5 * g.dx, 1e-12);
+          EXPECT_GT(p.r[i].y(), -1e-3 * g.dx);
+          EXPECT_GE(p.v[i].dot(d / d.norm()), -1e-12);
+        } else {
+          EXPECT_LT(p.r[i].y(), 0.0);
+          EXPECT_NEAR(p.r[i].y(), gap.y() + 0.1 * g.dx, 1e-3 * g.dx);
+        }
+      }
+    EXPECT_EQ(s.clearance_corrections(), gaps ? 1 : 0);
   }
 }
 

@@ -8,14 +8,18 @@
 //      u_w = 2 u_prescribed - sum_f u_f W_wf / sum_f W_wf, the fluid velocity mirrored about the
 //      wall's prescribed velocity (lid: U0, other walls and bodies: 0);
 //   3. prediction, eqs. (7)-(8): u_* = u_t + nu lap u_t dt, lap u by VISC-01..04 (eqs. 15-20,
-//      operators/viscous_laplacian.hpp; no body force in the cavity cases);
+//      operators/viscous_laplacian.hpp; no body force in the cavity cases), the walls carrying
+//      their mirror velocity (option visc_wall_velocity = mirror) or their prescribed one
+//      (prescribed);
 //   4. predicted density at r_* = r_t + u_* dt (eq. 9), by summation over the cached pairs with
 //      r_ij* = r_ij + dt (u*_i - u*_j) (walls do not move);
 //   5. PPE, eq. (13) with the Laplacian of eq. (14), assembled as a sparse matrix and solved
 //      (schemes/isph/ppe_solver.hpp):
 //        sum_j 8 m_j / (rho_i + rho_j)^2 P_ij r_ij.grad_i W_ij / (r_ij^2 + eta^2)
 //            = (1 - alpha) div u*_i / dt + alpha (rho0 - rho*_i) / (rho0 dt^2),
-//      div u*_i by eq. (4) with V_j = m_j / rho_j. The paper prints the source as
+//      div u*_i by eq. (4) with V_j = m_j / rho_j, the walls carrying their prescribed velocity
+//      (option ppe_wall_velocity = prescribed) or their mirror velocity (mirror). The paper
+//      prints the source as
 //      alpha (rho - rho*) / dt^2 + (alpha - 1) rho div u* / dt for grad^2 P; combining the
 //      continuity equation with eq. (10), as the paper says it does, gives the signs used here
 //      (with the printed (alpha - 1) the projection would double the divergence instead of
@@ -39,7 +43,13 @@
 //      the configuration of the step (no second neighbour search), and the velocity moved with
 //      the particle by a first-order Taylor step u_i += grad u_i . dr_i (Lind et al. 2012);
 //   8. wall clearance (a safety net of ours, option wall_clearance): a fluid particle closer than
-//      wall_clearance dx to a wall particle is put back at that distance (counted).
+//      wall_clearance dx to a wall particle is put back at that distance (counted). With the
+//      default 0.5 dx, half the spacing of the wall particles, the midpoint between two
+//      neighbouring wall particles is at exactly that distance from both: the net lets a particle
+//      through the gap, and by removing its velocity towards each of the two it guides it along
+//      the gap into the wall. Option wall_clearance_gaps closes the gaps: the distance is also
+//      kept from the midpoint of every pair of wall particles at most sqrt(D) dx apart (lattice
+//      neighbours and diagonals).
 //
 // Work arrays are sized at construction; a step allocates nothing in the SPH loops (the sparse
 // LU of UMFPACK allocates its own factors).
@@ -65,9 +75,16 @@
 
 namespace sph {
 
+// Which velocity a wall or body particle carries into an operator: the no-slip mirror of stage 2
+// (u_w = 2 u_prescribed - Shepard mean of the fluid, Adami et al. 2012 eqs. 22-23) or its
+// prescribed velocity u_prescribed.
+enum class WallVelocityUse { Mirror, Prescribed };
+
 // The scheme's parameters (SchemeInfo "isph", schemes/isph/isph.cpp), read once per job.
 struct IsphOptions {
   ViscForm visc = ViscForm::Visc04;
+  WallVelocityUse visc_wall = WallVelocityUse::Mirror;    // in the viscous term (stage 3)
+  WallVelocityUse ppe_wall = WallVelocityUse::Prescribed; // in div u* of the PPE (stages 4-5)
   double alpha_ppe = 0.01;
   PpeSolverKind solver = PpeSolverKind::BicgstabIlu0;
   double ppe_tol = 1e-6;
@@ -80,7 +97,8 @@ struct IsphOptions {
   double shift_A = 2.0;
   double shift_max = 0.1; // cap of |dr| in units of dx
   bool shift_velocity = true;
-  double wall_clearance = 0.5; // minimum fluid-wall particle distance / dx (0: off)
+  double wall_clearance = 0.5;      // minimum fluid-wall particle distance / dx (0: off)
+  bool wall_clearance_gaps = false; // also keep that distance from the gaps between wall particles
 
   static IsphOptions from_params(const Params& prm);
 };
@@ -229,14 +247,15 @@ public:
     CorrectionMatrix<D> cm{p_.V, gamma_, trb_};
     interact(nl_, cm, fluid);
     lap_.prepare(nl_, p_.V, fluid);
-    lap_.apply(nl_, p_.V, p_.v, lapv_, fluid);
+    lap_.apply(nl_, p_.V, visc_velocity(vw), lapv_, fluid);
+    const auto& uwall = opt_.ppe_wall == WallVelocityUse::Mirror ? p_.v : vw;
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < N; ++i) {
       if (fluid(i)) {
         ustar_[i] = p_.v[i] + (nu_ * dt_) * lapv_[i];
         umove_[i] = ustar_[i];
       } else {
-        ustar_[i] = vw[i];
+        ustar_[i] = uwall[i];
         umove_[i] = Vec<D>::Zero();
       }
     }
@@ -261,7 +280,7 @@ public:
     interact(nl_, pc, fluid);
     for (std::size_t i = 0; i < N; ++i)
       if (!fluid(i))
-        unew_[i] = vw[i]; // walls move with their prescribed velocity (as in the PPE source)
+        unew_[i] = ustar_[i]; // the walls' velocity of the PPE source (ppe_wall_velocity)
     if (measure_div_) {
       isph_ops::Divergence<D> dn{p_.V, unew_, div_};
       interact(nl_, dn, fluid);
@@ -415,7 +434,7 @@ private:
   double rho0_sum_ = 1.0;
   std::vector<Mat<D>> gamma_;
   std::vector<double> trb_, rho_star_, div_, rhs_, x_;
-  std::vector<Vec<D>> lapv_, ustar_, umove_, unew_, dr_;
+  std::vector<Vec<D>> lapv_, ustar_, umove_, unew_, dr_, vvisc_;
   std::vector<Mat<D>> gradu_;
   bool measure_div_ = false;
   double div_max_ = 0.0, div_rms_ = 0.0;
@@ -434,27 +453,59 @@ private:
       return;
     const std::size_t N = p_.size();
     long count = 0;
+    // Pushes fluid particle i to distance dmin from the point x (wall particles do not move).
+    auto keep_from = [&](std::size_t i, const Vec<D>& x) {
+      const Vec<D> d = p_.r[i] - x;
+      const double r = d.norm();
+      if (!(r < dmin && r > 0.0))
+        return 0;
+      const Vec<D> n = d / r;
+      p_.r[i] += (dmin - r) * n;
+      const double un = p_.v[i].dot(n);
+      if (un < 0.0)
+        p_.v[i] -= un * n;
+      return 1;
+    };
+    // Gaps: pairs of wall particles at most sqrt(D) dx apart; a midpoint within dmin of i has
+    // both ends within dmin + sqrt(D) dx / 2 of it (inside the kernel support).
+    const double pair_max = std::sqrt(static_cast<double>(D)) * dx_ * (1.0 + 1e-9);
+    const double near_max = dmin + 0.5 * pair_max;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : count)
     for (std::size_t i = 0; i < N; ++i) {
       if (!isph_ops::is_fluid(p_.kind[i]))
         continue;
       for (std::uint32_t q = nl_.offset[i]; q < nl_.offset[i + 1]; ++q) {
         const std::uint32_t j = nl_.j[q];
-        if (isph_ops::is_fluid(p_.kind[j]))
-          continue;
-        const Vec<D> d = p_.r[i] - p_.r[j]; // walls do not move
-        const double r = d.norm();
-        if (r < dmin && r > 0.0) {
-          const Vec<D> n = d / r;
-          p_.r[i] += (dmin - r) * n;
-          const double un = p_.v[i].dot(n);
-          if (un < 0.0)
-            p_.v[i] -= un * n;
-          ++count;
-        }
+        if (!isph_ops::is_fluid(p_.kind[j]))
+          count += keep_from(i, p_.r[j]);
       }
+      if (!opt_.wall_clearance_gaps)
+        continue;
+      std::uint32_t near[64];
+      int n_near = 0;
+      for (std::uint32_t q = nl_.offset[i]; q < nl_.offset[i + 1] && n_near < 64; ++q) {
+        const std::uint32_t j = nl_.j[q];
+        if (!isph_ops::is_fluid(p_.kind[j]) && (p_.r[i] - p_.r[j]).norm() < near_max)
+          near[n_near++] = j;
+      }
+      for (int a = 0; a < n_near; ++a)
+        for (int b = a + 1; b < n_near; ++b)
+          if ((p_.r[near[a]] - p_.r[near[b]]).norm() <= pair_max)
+            count += keep_from(i, 0.5 * (p_.r[near[a]] + p_.r[near[b]]));
     }
     clearance_corrections_ += count;
+  }
+
+  // The velocity field of the viscous term: the particles' own (walls: the no-slip mirror of
+  // stage 2), or with visc_wall_velocity = prescribed the walls' prescribed velocity vw.
+  const std::vector<Vec<D>>& visc_velocity(const std::vector<Vec<D>>& vw) {
+    if (opt_.visc_wall == WallVelocityUse::Mirror)
+      return p_.v;
+    const std::size_t N = p_.size();
+    vvisc_.resize(N);
+    for (std::size_t i = 0; i < N; ++i)
+      vvisc_[i] = isph_ops::is_fluid(p_.kind[i]) ? p_.v[i] : vw[i];
+    return vvisc_;
   }
 
   void rebuild() {
