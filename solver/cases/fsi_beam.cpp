@@ -48,6 +48,12 @@
 //                           fluid on the cylinder plus the beam: C_D = 2 F_x / (rho_f U^2 D),
 //                           C_L = 2 F_y / (rho_f U^2 D), F the sum of the fluid's force on their
 //                           wall particles (wcsph_tvf's wall reactions, averaged over each step)
+//   cl_mean                 time mean of C_L over the same window as cd_mean
+//   drag, lift              Turek & Hron's units (CFD2: 136.7 and 10.53): the time means of the
+//                           force in N per m at their rho_f = 1000 kg/m^3, 50 cd_mean and 50
+//                           cl_mean
+//   lift_oscillation        half the peak-to-peak of C_L over the window / |cl_mean| (CFD2 is
+//                           steady: ~0)
 //   cd_end, cl_end          the last sample; tip_dx_end, tip_dy_end the last tip displacement / D
 //   solid_substeps_mean     solid steps per fluid step; n_fluid, n_solid, advection_steps
 // HDF5 (<output_dir>/fsi_beam.h5): series/{t, tip_dx, tip_dy, cd, cl} (every advection step) and
@@ -272,7 +278,24 @@ public:
     if (std::isfinite(mx))
       res.add("tip_x_mean", mx / D), res.add("tip_y_mean", my / D);
     res.add("tip_y_max_over_D", tip_y_max_ / D);
-    add_shedding_metrics(t, series_[3], series_[4], t_settle_, D / U, res);
+    const AveragingWindow w =
+        add_shedding_metrics(t, series_[3], series_[4], t_settle_, D / U, res);
+    // Turek & Hron's units: drag and lift in N per m of span at their rho_f = 1000 kg/m^3 (ours is
+    // 1, with U = 1 m/s and D = 0.1 m as theirs), F = rho_f U^2 D C / 2 = 50 C.
+    const double cl_mean = diag::time_mean(t, series_[4], w.t0, w.t1);
+    const double cd_mean = diag::time_mean(t, series_[3], w.t0, w.t1);
+    if (std::isfinite(cl_mean) && std::isfinite(cd_mean)) {
+      const double to_newton = 1000.0 * 0.5 * U * U * D;
+      res.add("cl_mean", cl_mean);
+      res.add("drag", to_newton * cd_mean);
+      res.add("lift", to_newton * cl_mean);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (std::size_t k = 0; k < t.size(); ++k)
+        if (t[k] >= w.t0 && t[k] <= w.t1)
+          lo = std::min(lo, series_[4][k]), hi = std::max(hi, series_[4][k]);
+      if (hi >= lo && cl_mean != 0.0)
+        res.add("lift_oscillation", 0.5 * (hi - lo) / std::abs(cl_mean));
+    }
     if (!t.empty()) {
       res.add("cd_end", series_[3].back()), res.add("cl_end", series_[4].back());
       res.add("tip_dx_end", ux.back() / D), res.add("tip_dy_end", uy.back() / D);

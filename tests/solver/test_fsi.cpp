@@ -285,4 +285,8 @@ TEST(FsiBeam, ShortCoupledRunAgainstTheRigidBeam) {
   EXPECT_NEAR(metric(coupled, "tip_dy_end"), -0.888e-3, 0.15 * 0.888e-3);
   EXPECT_EQ(metric(rigid, "tip_dx_end"), 0.0);
   EXPECT_NEAR(metric(coupled, "solid_substeps_mean"), 7.8, 0.5);
+  // Turek & Hron's units (N/m at rho_f = 1000 kg/m^3, U = 1 m/s, D = 0.1 m): F = 50 C.
+  EXPECT_NEAR(metric(rigid, "drag"), 50.0 * metric(rigid, "cd_mean"), 1e-9 * metric(rigid, "drag"));
+  EXPECT_NEAR(metric(rigid, "lift"), 50.0 * metric(rigid, "cl_mean"), 1e-9);
+  EXPECT_GT(metric(rigid, "lift_oscillation"), 0.0);
 }
