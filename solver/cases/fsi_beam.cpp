@@ -166,6 +166,32 @@ public:
     coupling_.add_images(p, solid_, rho_f, dx, f.v_wall);
     for (std::size_t k = n_before_images; k < p.size(); ++k)
       p.scalar(body_)[k] = 1.0;
+    // Wall normals into the fluid (wcsph_tvf's wall_dissipation = normal): the channel walls'
+    // +-y; on the cylinder and the beam the normal of the nearest face (radial, beam top, bottom,
+    // tip), the beam's faces only from its clamp on.
+    f.normal = p.add_vector("normal");
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      if (p.kind[k] != Kind::Wall)
+        continue;
+      const V2 r = p.r[k];
+      V2& n = p.vector(f.normal)[k];
+      if (p.scalar(body_)[k] == 0.0) {
+        n = r[1] < 0.5 * H_channel ? V2(0.0, 1.0) : V2(0.0, -1.0);
+        continue;
+      }
+      const double inf = std::numeric_limits<double>::infinity();
+      const double rc = (r - centre).norm();
+      double best = rc < R ? R - rc : inf;
+      n = rc > 0.0 ? V2((r - centre) / rc) : V2(-1.0, 0.0);
+      if (r[0] >= x_clamp - dx && r[1] > y_lo && r[1] < y_hi) {
+        const std::pair<double, V2> faces[] = {{y_hi - r[1], V2(0.0, 1.0)},
+                                               {r[1] - y_lo, V2(0.0, -1.0)},
+                                               {x_tip - r[0], V2(1.0, 0.0)}};
+        for (const auto& [d, nf] : faces)
+          if (d < best)
+            best = d, n = nf;
+      }
+    }
 
     typename open_boundary::Emitter<2>::Config ec;
     ec.x_in = 0.0, ec.layers = layers, ec.dx = dx, ec.lo = {0, 0}, ec.hi = {nx, ny};

@@ -209,6 +209,46 @@ TEST(WcsphTvfTerms, RiemannDissipationOnAJump) {
   EXPECT_LT(F.norm(), 1e-14);
 }
 
+// A wall pair's dissipation (2nd half, wall at rest, v_w* = -v_i): with wall_dissipation = pair
+// along e on u = (v_i - v_w*) . e; with the wall's normal n (normal) along n on (v_i - v_w*) . n,
+// so fluid sliding past the wall gets none. By hand, V_i = 0.5, V_w = 0.25, dW = -2, rho0 c0 = 10,
+// full beta, e = (0.6, 0.8), n = (0, 1):
+//   sliding v_i = (1, 0):     pair: u = 1.2, F_i = 0.5 10 1.2 0.25 (-2) e = -3 e;  normal: 0
+//   approaching v_i = (0, -1): normal: u_n = -2, F_i = +5 n;  the continuity (along e, both):
+//                              drho_i = 1 (-1.6) 0.25 (-2) = 0.8
+TEST(WcsphTvfTerms, WallDissipationAlongTheNormalLeavesSlidingAlone) {
+  Particles<2> p;
+  p.add(Vec2(0.6, 0.8), 0.5, 1.0);
+  p.add(Vec2(0.0, 0.0), 0.25, 1.0, Kind::Wall);
+  p.V[0] = 0.5, p.V[1] = 0.25;
+  const Vec2 e(0.6, 0.8), n(0.0, 1.0);
+  const std::vector<Vec2> v_wall(2, Vec2::Zero()), normals{Vec2::Zero(), n};
+  Options o;
+  o.c0 = 10.0, o.dissipation = Dissipation::Full;
+  auto run = [&](const Vec2& v, const Vec2* n_wall, Vec2& F, double& drho) {
+    p.v[0] = v;
+    std::vector<double> dr(2, 0.0);
+    std::vector<Vec2> f(2);
+    ops::SecondHalf<2> op{p, v_wall.data(), o, 10.0, dr, f};
+    op.n_wall = n_wall;
+    auto a = op.init(0);
+    op.pair(0, Pair<2>{1, e, 1.0, 0.1, -2.0}, a);
+    op.finish(0, a);
+    F = f[0], drho = dr[0];
+  };
+  Vec2 F;
+  double drho;
+  run(Vec2(1.0, 0.0), nullptr, F, drho);
+  EXPECT_LT((F + 3.0 * e).norm(), 1e-14);
+  run(Vec2(1.0, 0.0), normals.data(), F, drho);
+  EXPECT_LT(F.norm(), 1e-14);
+  run(Vec2(0.0, -1.0), normals.data(), F, drho);
+  EXPECT_LT((F - 5.0 * n).norm(), 1e-14);
+  EXPECT_NEAR(drho, 0.8, 1e-14);
+  run(Vec2(0.0, -1.0), nullptr, F, drho);
+  EXPECT_NEAR(drho, 0.8, 1e-14);
+}
+
 // The scheme's sub-steps run FirstHalf and SecondHalf by index on AcousticPairs (e_ij = r_ij / r,
 // V_j dW_ij computed once per step); from a Pair they compute the same two values themselves. On a
 // disordered lattice with random p, v, V, wall partners (the bottom padding: wall pressure,

@@ -49,6 +49,11 @@ const ParamTable<Options>& table() {
           .boolean("substep_pairs", &Options::substep_pairs,
                    "pair geometry (r_ij, W_ij, dW_ij) of the current positions at every acoustic "
                    "sub-step instead of frozen over the advection step (SPHinXsys: frozen)")
+          .choice("wall_dissipation", &Options::wall_dissipation,
+                  {{"pair", WallDissipation::Pair}, {"normal", WallDissipation::Normal}},
+                  "Riemann dissipation of a wall pair: along e_iw (pair) or along the wall's "
+                  "normal, none for tangential sliding (normal: SPHinXsys; needs the case's wall "
+                  "normals, walls at rest or prescribed)")
           .string("kernel", &Options::kernel, "smoothing kernel",
                   {"wendland_c2", "cubic_spline", "quintic_spline"})
           .real("h_over_dx", &Options::h_over_dx, "smoothing length h / particle spacing dx",
@@ -73,7 +78,7 @@ template <int D, class K>
 class Adapter final : public sph::FlowScheme<D> {
 public:
   Adapter(const Options& o, const Flow<D>& flow)
-      : p_(*flow.p), v_wall_(flow.v_wall), o_(o), f_(prepare(flow)), s_(p_, f_, flow.box, o_) {
+      : p_(*flow.p), v_wall_(flow.v_wall), o_(o), f_(prepare(flow, o)), s_(p_, f_, flow.box, o_) {
     s_.set_boundary_hooks({flow.buffer_pressure, flow.before_density, flow.after_density,
                            flow.after_kick, flow.surface_indicator, flow.body_motion});
   }
@@ -135,8 +140,16 @@ private:
   std::vector<Vec<D>> r0_; // loaded Verlet reference positions, for resume()
   long builds_ = 0;
 
-  static Fields prepare(const Flow<D>& flow) {
+  static Fields prepare(const Flow<D>& flow, const Options& o) {
     Particles<D>& p = *flow.p;
+    if (o.wall_dissipation == WallDissipation::Normal) {
+      if (flow.normal < 0)
+        throw std::invalid_argument("wcsph_tvf: wall_dissipation = normal needs the case's wall "
+                                    "normals (this case sets none)");
+      if (flow.body_motion)
+        throw std::invalid_argument("wcsph_tvf: wall_dissipation = normal: the wall normals of "
+                                    "moving bodies are not updated (use pair)");
+    }
     for (auto& k : p.kind)
       if (k == Kind::Body)
         k = Kind::Wall;
@@ -148,6 +161,8 @@ private:
     f.h = flow.h;
     f.a_wall = flow.a_wall;
     f.f_body = flow.wall_force;
+    if (o.wall_dissipation == WallDissipation::Normal)
+      f.n_wall = flow.normal;
     return f;
   }
 };
@@ -187,7 +202,8 @@ SchemeInfo make_wcsph_tvf_scheme() {
   s.params = wcsph_tvf::table().specs();
   for (auto& spec : s.params)
     if (spec.name == "shift_velocity" || spec.name == "riemann_density" ||
-        spec.name == "wall_extrapolation" || spec.name == "substep_pairs")
+        spec.name == "wall_extrapolation" || spec.name == "substep_pairs" ||
+        spec.name == "wall_dissipation")
       spec.neutral_default = true; // added later: the jobs without it keep their keys
   s.free_stream = true;
   s.moving_bodies = true;

@@ -71,8 +71,10 @@
 // Walls (Kind::Wall particles with a prescribed velocity field, e.g. the cavity) [notes 2c]:
 // counted in the density summation; in the 1st half with p_w = p_i + rho_i |r_iw|
 // max(0, (F_prior_i / m_i) . (-e_iw)); in the continuity, dissipation and viscous force with
-// v_w* = 2 v_wall - v_i. Wall particles are not integrated. (The dissipation at walls uses e_iw
-// where SPHinXsys uses the wall normal.)
+// v_w* = 2 v_wall - v_i. Wall particles are not integrated. The dissipation of a wall pair acts
+// along e_iw on (v_i - v_w*) . e_iw (wall_dissipation = pair), or, as SPHinXsys', along the wall
+// particle's normal n_w on (v_i - v_w*) . n_w (normal; the case's Flow::normal), so that fluid
+// sliding past a wall gets none.
 //
 // Moving bodies coupled to a solid (fluid-structure interaction; coupling/fsi.hpp; Zhang,
 // Rezavand & Hu, JCP 429 (2021) 110028, section 3, and SPHinXsys' fluid_structure_interaction/
@@ -123,6 +125,7 @@ namespace sph::wcsph_tvf {
 enum class Tvf { None, Original, SmoothingLength, Limited };
 enum class Dissipation { Limited, Full, None };
 enum class LimiterSign { Expansion, Compression };
+enum class WallDissipation { Pair, Normal };
 
 struct Options {
   Tvf tvf = Tvf::Limited;
@@ -149,6 +152,9 @@ struct Options {
   bool riemann_density = true;    // 1st half: drho_i = rho_i sum (p_i - p_j)/(rho0 c0) V_j dW_ij
   bool wall_extrapolation = true; // p_w = p_i + rho_i r max(0, a . (-e)); false: p_w = p_i
   bool substep_pairs = false;     // the pairs of the current positions at every sub-step
+  // Riemann dissipation of a wall pair: along e_iw on (v_i - v_w*) . e_iw (pair), or along the
+  // wall particle's normal n_w on (v_i - v_w*) . n_w (normal; SPHinXsys' walls; Fields::n_wall)
+  WallDissipation wall_dissipation = WallDissipation::Pair;
 
   // Verlet skin as a fraction of the support (of the coarsest with two levels; not a job parameter:
   // it changes the cost and the particle order, so results by round-off only). 0.25 by measurement:
@@ -172,6 +178,8 @@ struct Fields {
   int f_body = -1; // out: force of the fluid on each wall particle, averaged over the last step
                    // (-1: not computed). force_dissipation of a wall particle then holds the
                    // reaction of the last 2nd half's dissipation force on it.
+  int n_wall = -1; // unit normal of each wall particle, pointing into the fluid (wall_dissipation =
+                   // normal; -1: the dissipation along e_iw)
   template <int D>
   static Fields add_to(Particles<D>& p, int v_wall = -1) {
     Fields f;
@@ -524,6 +532,7 @@ struct SecondHalf {
   bool walls_only = false;              // the wall partners' share only (force_on_walls)
   const AcousticPairs<D>* ap = nullptr; // the indexed pairs' coefficients
   Beta beta = Beta(o);                  // the limiter
+  const Vec<D>* n_wall = nullptr;       // wall normals: a wall pair's dissipation along n_w
 
   struct Acc {
     double d = 0.0;
@@ -542,13 +551,22 @@ struct SecondHalf {
       if (walls_only && p.kind[j] != Kind::Wall)
         return;
     const Vec<D> vj = Walls ? partner_velocity(p, v_wall, i, j) : p.v[j];
-    const double u = (p.v[i] - vj).dot(e);
+    const Vec<D> dv = p.v[i] - vj;
+    const double u = dv.dot(e);
     a.d += u * VdW;
     // Added also when beta = 0 (a zero term leaves the sum's bits unchanged): the sign of u_ij
     // is random pair to pair, and a branch on it mispredicts about every other pair. Left out
     // only without dissipation (NoBeta).
-    if constexpr (Beta::on)
+    if constexpr (Beta::on) {
+      if constexpr (Walls)
+        if (n_wall && p.kind[j] == Kind::Wall) { // along the wall's normal: no tangential part
+          const Vec<D>& n = n_wall[j];
+          const double un = dv.dot(n);
+          a.f += (rho0c0 * beta(un) * un * VdW) * n;
+          return;
+        }
       a.f += (rho0c0 * beta(u) * u * VdW) * e;
+    }
   }
   void finish(std::size_t i, const Acc& a) {
     drho[i] += p.rho[i] * a.d;
@@ -611,14 +629,16 @@ struct WallPressureReaction {
   void finish(std::size_t w, const Acc& a) { f[w] = a.f; }
 };
 
-// -F^diss_aw = -V_a rho0 c0 beta(u) u V_w dW e_aw,  u = (v_a - v_w*) . e_aw.
+// -F^diss_aw = -V_a rho0 c0 beta(u) u V_w dW e_aw,  u = (v_a - v_w*) . e_aw (with n_wall: n_w for
+// e_aw, as SecondHalf).
 template <int D>
 struct WallDissipationReaction {
   const Particles<D>& p;
   const Vec<D>* v_wall;
   const Options& o;
   double rho0c0;
-  std::vector<Vec<D>>& f; // out, wall rows
+  std::vector<Vec<D>>& f;         // out, wall rows
+  const Vec<D>* n_wall = nullptr; // wall normals (SecondHalf's)
 
   struct Acc {
     Vec<D> f = Vec<D>::Zero();
@@ -628,7 +648,7 @@ struct WallDissipationReaction {
     const std::uint32_t k = q.j;
     if (p.kind[k] != Kind::Fluid)
       return;
-    const Vec<D> e_aw = -q.r_ij / q.r;
+    const Vec<D> e_aw = n_wall ? n_wall[w] : Vec<D>(-q.r_ij / q.r);
     const Vec<D> vw = partner_velocity(p, v_wall, k, static_cast<std::uint32_t>(w));
     const double u = (p.v[k] - vw).dot(e_aw);
     a.f -= (p.V[k] * rho0c0 * dissipation_beta(o, u) * u * p.V[w] * q.dW) * e_aw;
@@ -875,6 +895,7 @@ public:
     fp.wall_extrapolation = o_.wall_extrapolation ? 1.0 : 0.0;
     interact(nl_, fp, fluid_only());
     ops::SecondHalf<D> fd{p_, v_wall(), o_, o_.rho0 * o_.c0, wf_drho_, wf_diss_, true};
+    fd.n_wall = n_wall();
     interact(nl_, fd, fluid_only());
     Vec<D> F = Vec<D>::Zero(), Fv = Vec<D>::Zero();
     for (std::size_t i = 0; i < N; ++i)
@@ -913,6 +934,9 @@ private:
 
   const Vec<D>* v_wall() const {
     return f_.v_wall >= 0 ? p_.vector(f_.v_wall).data() : nullptr;
+  }
+  const Vec<D>* n_wall() const {
+    return f_.n_wall >= 0 ? p_.vector(f_.n_wall).data() : nullptr;
   }
   const std::vector<Mat<D>>* B() const {
     return o_.kernel_correction ? &B_ : nullptr;
@@ -1160,13 +1184,13 @@ private:
         with_beta(o_, [&](auto beta) {
           with_walls([&](auto walls) {
             ops::SecondHalf<D, decltype(beta), decltype(walls)::value> op{
-                p_, v_wall(), o_, rho0c0, drho, fd, false, &ap_, beta};
+                p_, v_wall(), o_, rho0c0, drho, fd, false, &ap_, beta, n_wall()};
             interact_indexed(nl_, op, fluid_only());
           });
         });
       }
       if (coupled()) { // the walls' dissipation reaction, for the next kick
-        ops::WallDissipationReaction<D> op{p_, v_wall(), o_, rho0c0, fd};
+        ops::WallDissipationReaction<D> op{p_, v_wall(), o_, rho0c0, fd, n_wall()};
         interact(nl_, op, walls_only());
       }
 #pragma omp parallel for schedule(static)
