@@ -491,6 +491,10 @@ CaseInfo make_fsi_beam_case() {
     if (get_int(prm, "H_over_dx") % 2 != 0)
       return "fsi_beam: H_over_dx must be even (the lattice then fits the channel's 0.41 and the "
              "beam's 0.19)";
+    if (prm.count("wall_dissipation") && get_string(prm, "wall_dissipation") == "normal" &&
+        !get_bool(prm, "rigid_beam"))
+      return "fsi_beam: wall_dissipation = normal needs rigid_beam = true (the normals of the "
+             "moving beam are not updated)";
     return std::nullopt;
   };
   c.run = [](const Params& prm, const RunContext& ctx) {
