@@ -170,18 +170,19 @@ public:
     // +-y; on the cylinder and the beam the normal of the nearest face (radial, beam top, bottom,
     // tip), the beam's faces only from its clamp on.
     f.normal = p.add_vector("normal");
+    auto& normal = p.vector(f.normal);
+    const auto& body = p.scalar(body_);
     for (std::size_t k = 0; k < p.size(); ++k) {
       if (p.kind[k] != Kind::Wall)
         continue;
       const V2 r = p.r[k];
-      V2& n = p.vector(f.normal)[k];
-      if (p.scalar(body_)[k] == 0.0) {
+      V2& n = normal[k];
+      if (body[k] == 0.0) {
         n = r[1] < 0.5 * H_channel ? V2(0.0, 1.0) : V2(0.0, -1.0);
         continue;
       }
-      const double inf = std::numeric_limits<double>::infinity();
       const double rc = (r - centre).norm();
-      double best = rc < R ? R - rc : inf;
+      double best = rc < R ? R - rc : std::numeric_limits<double>::infinity();
       n = rc > 0.0 ? V2((r - centre) / rc) : V2(-1.0, 0.0);
       if (r[0] >= x_clamp - dx && r[1] > y_lo && r[1] < y_hi) {
         const std::pair<double, V2> faces[] = {{y_hi - r[1], V2(0.0, 1.0)},
@@ -309,18 +310,13 @@ public:
     // Turek & Hron's units: drag and lift in N per m of span at their rho_f = 1000 kg/m^3 (ours is
     // 1, with U = 1 m/s and D = 0.1 m as theirs), F = rho_f U^2 D C / 2 = 50 C.
     const double cl_mean = diag::time_mean(t, series_[4], w.t0, w.t1);
-    const double cd_mean = diag::time_mean(t, series_[3], w.t0, w.t1);
-    if (std::isfinite(cl_mean) && std::isfinite(cd_mean)) {
+    if (std::isfinite(cl_mean) && std::isfinite(w.cd_mean)) {
       const double to_newton = 1000.0 * 0.5 * U * U * D;
       res.add("cl_mean", cl_mean);
-      res.add("drag", to_newton * cd_mean);
+      res.add("drag", to_newton * w.cd_mean);
       res.add("lift", to_newton * cl_mean);
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (std::size_t k = 0; k < t.size(); ++k)
-        if (t[k] >= w.t0 && t[k] <= w.t1)
-          lo = std::min(lo, series_[4][k]), hi = std::max(hi, series_[4][k]);
-      if (hi >= lo && cl_mean != 0.0)
-        res.add("lift_oscillation", 0.5 * (hi - lo) / std::abs(cl_mean));
+      if (w.cl_hi >= w.cl_lo && cl_mean != 0.0)
+        res.add("lift_oscillation", 0.5 * (w.cl_hi - w.cl_lo) / std::abs(cl_mean));
     }
     if (!t.empty()) {
       res.add("cd_end", series_[3].back()), res.add("cl_end", series_[4].back());

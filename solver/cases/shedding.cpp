@@ -20,7 +20,8 @@ AveragingWindow add_shedding_metrics(const std::vector<double>& t, const std::ve
   AveragingWindow w{t_settle, t.empty() ? t_settle : t.back(), false};
   if (fz.cycles >= 2)
     w = {fz.t_first, fz.t_last, true};
-  add_if("cd_mean", diag::time_mean(t, cd, w.t0, w.t1));
+  w.cd_mean = diag::time_mean(t, cd, w.t0, w.t1);
+  add_if("cd_mean", w.cd_mean);
   add_if("cl_rms", diag::time_rms(t, cl, w.t0, w.t1));
   res.add("st_cycles", fz.cycles);
   if (fz.cycles >= 1) {
@@ -29,14 +30,14 @@ AveragingWindow add_shedding_metrics(const std::vector<double>& t, const std::ve
   }
   if (fs.f > 0.0)
     res.add("St_spectral", fs.f * D_over_U);
-  double cdmin = 1e300, cdmax = -1e300, clmin = 1e300, clmax = -1e300;
+  double cdmin = 1e300, cdmax = -1e300;
   for (std::size_t k = 0; k < t.size(); ++k)
     if (t[k] >= w.t0 && t[k] <= w.t1)
       cdmin = std::min(cdmin, cd[k]), cdmax = std::max(cdmax, cd[k]),
-      clmin = std::min(clmin, cl[k]), clmax = std::max(clmax, cl[k]);
+      w.cl_lo = std::min(w.cl_lo, cl[k]), w.cl_hi = std::max(w.cl_hi, cl[k]);
   if (cdmax >= cdmin) {
     res.add("cd_amplitude", 0.5 * (cdmax - cdmin));
-    res.add("cl_amplitude", 0.5 * (clmax - clmin));
+    res.add("cl_amplitude", 0.5 * (w.cl_hi - w.cl_lo));
   }
   return w;
 }

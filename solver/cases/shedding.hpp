@@ -21,6 +21,8 @@ namespace sph {
 struct AveragingWindow {
   double t0 = 0.0, t1 = 0.0;  // the interval the averages were taken over
   bool whole_periods = false; // [t0, t1] holds whole lift periods (else t1 is the last sample)
+  double cd_mean = 0.0;       // the recorded cd_mean (NaN: none)
+  double cl_lo = 1e300, cl_hi = -1e300; // C_L's range over [t0, t1] (cl_hi < cl_lo: no sample)
 };
 
 // Adds the metrics above to res (t, cd, cl: the sampled series; D_over_U: D / U of St).
