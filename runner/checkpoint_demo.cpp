@@ -110,6 +110,7 @@ RunResult run_checkpoint_demo(const Params& prm, const RunContext& ctx) {
 CaseInfo make_checkpoint_demo_case() {
   CaseInfo c;
   c.name = "checkpoint_demo";
+  c.test_fixture = true;
   c.description = "test case (not SPH): FPUT-alpha chain, velocity Verlet, checkpointed state";
   c.params = {
       {"n", ParamType::Int, std::int64_t{64}, "particles in the periodic chain", 2.0, 1e6},

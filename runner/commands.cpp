@@ -244,17 +244,63 @@ void print_params(std::ostream& out, const std::vector<ParamSpec>& params) {
 }
 } // namespace
 
-int cmd_cases(std::ostream& out) {
-  for (const auto& c : case_registry()) {
-    out << c.name << ": " << c.description << "\n";
-    if (!c.schemes.empty())
-      out << "  schemes: " << quoted_list(c.schemes) << "\n";
-    print_params(out, c.params);
+int cmd_cases(std::ostream& out, const std::string& name) {
+  if (name.empty()) {
+    for (const auto& c : case_registry()) {
+      if (c.test_fixture)
+        continue;
+      out << c.name << ": " << c.description << "\n";
+      if (!c.schemes.empty())
+        out << "  schemes: " << quoted_list(c.schemes) << "\n";
+      print_params(out, c.params);
+    }
+    out << "\nschemes (their parameters join those of the case a study runs them with):\n";
+    for (const auto& s : scheme_registry()) {
+      out << "scheme " << s.name << ": " << s.description << "\n";
+      print_params(out, s.params);
+    }
+    out << "\nOne case with its metrics and outputs: runner cases CASE\n";
+    return 0;
   }
-  out << "\nschemes (their parameters join those of the case a study runs them with):\n";
-  for (const auto& s : scheme_registry()) {
-    out << "scheme " << s.name << ": " << s.description << "\n";
-    print_params(out, s.params);
+  const CaseInfo* c = find_case(name);
+  if (!c) {
+    std::vector<std::string> names;
+    for (const auto& k : case_registry())
+      if (!k.test_fixture)
+        names.push_back(k.name);
+    throw std::runtime_error("runner cases: no case '" + name + "'" + did_you_mean(name, names) +
+                             "; cases: " + quoted_list(names));
+  }
+  auto docs = [&](const std::vector<OutputDoc>& list) {
+    for (const auto& d : list) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "  %-28s ", d.name.c_str());
+      out << buf << d.doc << "\n";
+    }
+  };
+  out << c->name << ": " << c->description << "\n\nparameters:\n";
+  print_params(out, c->params);
+  for (const auto& sn : c->schemes)
+    if (const SchemeInfo* s = find_scheme(sn)) {
+      out << "\nscheme " << s->name << (sn == c->schemes.front() ? " (the default)" : "") << ": "
+          << s->description << "\n";
+      print_params(out, s->params);
+      if (!s->metrics.empty()) {
+        out << "  its metrics:\n";
+        docs(s->metrics);
+      }
+    }
+  out << "\nmetrics:\n";
+  if (c->metrics.empty())
+    out << "  (not declared here: the case's page in docs/ lists them)\n";
+  docs(c->metrics);
+  if (c->size) { // a flow case: the time loop's costs
+    out << "\nmetrics of every flow case:\n";
+    docs(flow_loop_metrics());
+  }
+  if (!c->datasets.empty()) {
+    out << "\nHDF5 datasets (<job folder>/" << c->name << ".h5):\n";
+    docs(c->datasets);
   }
   return 0;
 }

@@ -20,7 +20,9 @@ int cmd_query(const std::filesystem::path& db, const std::string& sql, std::ostr
 int cmd_status(const std::filesystem::path& db, const std::string& study, std::ostream& out);
 
 // The registered cases with their parameters.
-int cmd_cases(std::ostream& out);
+// `runner cases [CASE]`: every case and scheme with its parameters; one case with the scheme
+// parameters that apply, its metrics and its HDF5 datasets.
+int cmd_cases(std::ostream& out, const std::string& name = "");
 
 struct TableOptions {
   std::string study;

@@ -1,6 +1,7 @@
 // Cost estimates of jobs before they run (cost.hpp).
 #include "cost.hpp"
 
+#include "cases/case.hpp"
 #include "schemes/scheme.hpp"
 
 #include <nlohmann/json.hpp>
@@ -31,22 +32,26 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Measured seconds per particle-step when the database has nothing to calibrate from; `param`
-// (if set) must have `value` in the job.
+// CPU seconds per particle and elementary step when the database has nothing to calibrate from:
+// the median over the published runs of each scheme (docs/results/*.csv, cpu_time_s /
+// (n_particles x work steps), jobs of at least 2 CPU s, one core; docs/runner.md). `param` (if
+// set) must have `value` in the job.
 struct Default {
-  const char* case_scheme;
+  const char* scheme;
+  int dim;
   const char* param;
   double value;
   double s_per_particle_step;
   const char* source;
 };
 const Default defaults[] = {
-    // docs/alsph.md, "What a step costs": CPU seconds per particle-step of the recorded D/dx = 10
-    // runs (60 D/U, 15 226 particles, dt U/dx = 5.08e-2, double coefficients), one core.
-    {"cylinder_channel/alsph", "algorithm", 1, 5.06e-6,
-     "Algorithm 1 at D/dx = 10: 5.06 us per particle-step (docs/alsph.md)"},
-    {"cylinder_channel/alsph", "algorithm", 2, 2.10e-6,
-     "Algorithm 2 at D/dx = 10: 2.10 us per particle-step (docs/alsph.md)"},
+    {"alsph", 2, "algorithm", 1, 5.06e-6, "Algorithm 1, published runs at D/dx = 10"},
+    {"alsph", 2, "algorithm", 2, 2.10e-6, "Algorithm 2, published runs at D/dx = 10"},
+    {"isph", 2, nullptr, 0, 2.63e-6, "median of 76 published 2D cavity runs"},
+    {"wcsph_tvf", 2, nullptr, 0, 0.27e-6, "per acoustic sub-step, median of 38 published 2D runs"},
+    {"wcsph_tvf", 3, nullptr, 0, 7.1e-6, "per acoustic sub-step, 2 published 3D cavity runs"},
+    {"contact", 2, nullptr, 0, 0.72e-6, "median of 14 published 2D runs"},
+    {"contact", 3, nullptr, 0, 2.6e-6, "median of 60 published 3D runs"},
 };
 
 // The value of a job parameter as JSON text, and the same of a sample's identity parameters
@@ -85,17 +90,14 @@ std::vector<const CostSample*> closest_samples(const JobSpec& job,
 } // namespace
 
 std::optional<JobSize> cost_size(const JobSpec& job) {
-  if (job.case_name == "cylinder_channel") {
-    // Channel L x H (in D) less the cylinder, on a lattice of spacing dx = D / D_over_dx; steps
-    // t_end / dt with dt = dt_star dx / U (U = D = 1). A job that diverges costs less.
-    auto r = number(job, "D_over_dx"), dts = number(job, "dt_star"), t = number(job, "t_end");
-    auto l = number(job, "channel_length"), h = number(job, "channel_height");
-    if (!r || !dts || !t || !l || !h || *dts <= 0)
-      return std::nullopt;
-    const double pi = 3.14159265358979323846;
-    return JobSize{(*l * *h - pi / 4) * *r * *r, *t * *r / *dts};
+  const CaseInfo* info = find_case(job.case_name);
+  if (!info || !info->size)
+    return std::nullopt;
+  try {
+    return info->size(job.params);
+  } catch (const std::exception&) {
+    return std::nullopt; // parameters the case refuses: the job will say why when it runs
   }
-  return std::nullopt;
 }
 
 double StudyEstimate::wall_s(std::size_t workers) const {
@@ -104,51 +106,66 @@ double StudyEstimate::wall_s(std::size_t workers) const {
 
 std::optional<double> estimate_job(const JobSpec& job, const CostSamples& samples,
                                    std::string* how) {
-  const std::string cs = job.case_name + "/" + (job.scheme.empty() ? "-" : job.scheme);
-  auto it = samples.find(cs);
-  const std::vector<CostSample> none;
-  const auto& sm = it == samples.end() ? none : it->second;
-  char buf[200];
+  const std::string scheme = job.scheme.empty() ? "-" : job.scheme;
   auto say = [&](const std::string& s) {
     if (how)
       *how = s;
   };
-  if (auto size = cost_size(job)) {
-    std::vector<CostSample> sized;
-    for (const auto& s : sm)
-      if (s.particles && s.steps && *s.particles > 0 && *s.steps > 0)
-        sized.push_back(s);
+  const std::optional<JobSize> size = cost_size(job);
+  if (!size) {
+    say("unknown (the case cannot size its jobs before they run)");
+    return std::nullopt;
+  }
+  const double work = size->particles * size->steps * size->work_per_step;
+  char buf[240];
+  std::vector<const CostSample*> same, other;
+  for (const auto& [cs, v] : samples) {
+    const auto slash = cs.rfind('/');
+    if (slash == std::string::npos || cs.substr(slash + 1) != scheme)
+      continue;
+    const bool this_case = cs.substr(0, slash) == job.case_name;
+    for (const CostSample& s : v)
+      if (this_case)
+        same.push_back(&s);
+      else if (s.dim == size->dim)
+        other.push_back(&s);
+  }
+  // The median rate of the pool's samples closest in scheme parameters that reported their size.
+  double rate = 0;
+  // this_case: per predicted particle-step where the sample has it.
+  auto use = [&](const std::vector<const CostSample*>& pool, bool this_case, const char* where) {
     std::vector<double> k;
+    std::vector<CostSample> sized;
+    for (const CostSample* s : pool)
+      if (s->particles && s->steps && *s->particles > 0 && *s->steps > 0)
+        sized.push_back(*s);
     for (const CostSample* s : closest_samples(job, sized))
-      k.push_back(s->cpu_s / (*s->particles * *s->steps));
-    if (!k.empty()) {
-      const double kk = median(k);
+      k.push_back(s->cpu_s / (this_case && s->predicted_work && *s->predicted_work > 0
+                                  ? *s->predicted_work
+                                  : *s->particles * s->work_steps.value_or(*s->steps)));
+    if (k.empty())
+      return false;
+    rate = median(k);
+    std::snprintf(buf, sizeof buf,
+                  "particles x steps x %.3g us per particle-step (median of the %zu finished "
+                  "job(s) %s closest in scheme parameters)",
+                  1e6 * rate, k.size(), where);
+    say(buf);
+    return true;
+  };
+  if (use(same, true, "of this case in the database") ||
+      use(other, false, "of other cases of this scheme and dimension in the database"))
+    return rate * work;
+  for (const auto& d : defaults)
+    if (scheme == d.scheme && size->dim == d.dim && (!d.param || number(job, d.param) == d.value)) {
       std::snprintf(buf, sizeof buf,
-                    "particles x steps x %.3g us per particle-step (median of the %zu finished "
-                    "job(s) in the database closest in scheme parameters)",
-                    1e6 * kk, k.size());
+                    "particles x steps x %.3g us per particle-step (%s; nothing finished in the "
+                    "database to calibrate from)",
+                    1e6 * d.s_per_particle_step, d.source);
       say(buf);
-      return kk * size->particles * size->steps;
+      return d.s_per_particle_step * work;
     }
-    for (const auto& d : defaults)
-      if (cs == d.case_scheme && (!d.param || number(job, d.param) == d.value)) {
-        std::snprintf(buf, sizeof buf,
-                      "particles x steps x %.3g us per particle-step (%s; nothing finished "
-                      "in the database to calibrate from)",
-                      1e6 * d.s_per_particle_step, d.source);
-        say(buf);
-        return d.s_per_particle_step * size->particles * size->steps;
-      }
-  }
-  if (!sm.empty()) {
-    std::vector<double> c;
-    for (const auto& s : sm)
-      c.push_back(s.cpu_s);
-    say("the median CPU time of its " + std::to_string(c.size()) +
-        " finished job(s) in the database (no cost formula for this case)");
-    return median(c);
-  }
-  say("no estimate (no cost formula and no finished job of this case and scheme)");
+  say("unknown (no finished job of this scheme and dimension in the database, no measured rate)");
   return std::nullopt;
 }
 

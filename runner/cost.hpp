@@ -1,11 +1,17 @@
-// What a study will cost before it runs (issue 16 part 4, first step): for each job, particles x
-// steps from its parameters (cost_size: a formula per case, today cylinder_channel) times the
-// seconds per particle-step of its case and scheme, calibrated from the database's own finished
-// jobs (their n_particles and steps metrics and CPU time) where there are any, else a measured
-// default (docs/alsph.md). Cases without a formula are estimated from the mean CPU time of their
-// finished jobs of the same case and scheme, or not at all (said so).
+// What a study will cost before it runs: for each job, particles x steps x elementary steps per
+// step from the case itself (CaseInfo::size: the case set up without running, its scheme's stable
+// step there), times CPU seconds per particle-step calibrated from the database's finished jobs:
+// - those of the same case and scheme closest in scheme parameters, per particle-step as they
+//   were sized before they ran (metric predicted_work): what the size misses for this case (steps
+//   that shrink after the first, a steady state reached before t_end, particles that enter) is
+//   then in the rate;
+// - else those of the same scheme and dimension in other cases, per particle-step they took
+//   (n_particles x work_steps);
+// - else a rate measured on the published runs (docs/runner.md).
+// A job whose case cannot size it, or whose scheme has no rate, is "unknown": no guess.
 #pragma once
 
+#include "cases/case.hpp"
 #include "expand.hpp"
 
 #include <filesystem>
@@ -16,21 +22,22 @@
 
 namespace sph::runner {
 
-struct JobSize {
-  double particles = 0;
-  double steps = 0;
-};
-
-// Particles x steps of a job from its parameters; nullopt for cases without a formula.
+// The size of a job from its parameters (the case's CaseInfo::size); nullopt for a case that
+// cannot size its jobs or parameters it refuses.
 std::optional<JobSize> cost_size(const JobSpec& job);
 
-// One finished attempt of a case and scheme: its CPU time, and its particles and steps when it
-// reported them (metrics n_particles, steps).
+// One finished attempt of a case and scheme: its CPU time, and its particles, steps, elementary
+// steps and dimension when it reported them (metrics n_particles, steps, work_steps or
+// acoustic_steps, dimension).
 struct CostSample {
   double cpu_s = 0;
   std::optional<double> particles, steps;
   std::string params_json; // the job's identity parameters: the rate is taken from the samples
                            // that share the most scheme parameters with the job (algorithm, ...)
+  std::optional<double> work_steps; // elementary steps (absent: = steps)
+  std::optional<int> dim;
+  std::optional<double> predicted_work; // particles x steps x elementary steps per step as the
+                                        // job was sized before it ran (its metric predicted_work)
 };
 
 struct StudyEstimate {
@@ -43,6 +50,7 @@ struct StudyEstimate {
   double wall_s(std::size_t workers) const;
 };
 
+// By "case/scheme" ("-" for no scheme).
 using CostSamples = std::map<std::string, std::vector<CostSample>>;
 
 // The CPU seconds one job is expected to take; nullopt without an estimate. how: the basis.

@@ -76,6 +76,8 @@ struct Task {
   fs::path spec, result, log, progress, output_dir;
   int lock_fd = -1; // flock on <output_dir>/.attempt.lock while the attempt runs
   JobRecord record; // params.json of the job's folder
+  std::chrono::steady_clock::time_point started;
+  std::optional<double> predicted_s; // the cost model's wall seconds (ETA)
 };
 
 // Rewrites params.json at the end of an attempt; a failure to write it is a warning (the
@@ -419,12 +421,10 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
     if (fs::exists(opts.db_path, ec)) {
       try {
         ro.emplace(Store::open_read(opts.db_path));
-        std::vector<std::pair<std::string, std::string>> kinds;
-        for (const auto& scheme : study.info->schemes)
-          kinds.emplace_back(study.case_name, scheme);
-        if (kinds.empty())
-          kinds.emplace_back(study.case_name, "");
-        samples = ro->cost_samples(kinds);
+        std::vector<std::string> schemes = study.info->schemes;
+        if (schemes.empty())
+          schemes.emplace_back();
+        samples = ro->cost_samples(schemes);
       } catch (const std::exception&) {
         unreadable();
       }
@@ -478,8 +478,14 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
                                           : std::max(1u, std::thread::hardware_concurrency()),
                             std::max<std::size_t>(n_to_run, 1));
   auto print_estimate = [&] {
-    if (cost.estimated == 0)
+    if (n_to_run == 0)
       return;
+    if (cost.estimated == 0) {
+      out << "estimate: unknown for the " << n_to_run << " job(s) to run\n";
+      for (const auto& b : cost.basis)
+        out << "  " << b << "\n";
+      return;
+    }
     out << "estimate: " << format_cost(cost.cpu_s) << " for " << cost.estimated << " of the "
         << n_to_run << " job(s) to run, about " << format_cost(cost.wall_s(est_workers), "wall")
         << " on this machine with " << est_workers << " at once";
@@ -692,9 +698,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
       // Without any, the cost model's mean estimate per job (CPU time over the job's threads).
       if (auto prior = store.mean_wall_s(sync.study_id, tier))
         progress.set_prior_job_s(*prior);
-      else if (cost.estimated > 0)
-        progress.set_prior_job_s(cost.cpu_s / static_cast<double>(cost.estimated) /
-                                 std::max(opts.threads_per_job, 1));
+      const double per_thread = 1.0 / std::max(opts.threads_per_job, 1);
+      progress.set_plan(cost.cpu_s * per_thread, cost.estimated);
       AttemptStart start{host,          pid, opts.threads_per_job, code_version(),
                          compiler_id(), 0,   fingerprint,          std::nullopt};
       std::size_t next = 0;
@@ -710,9 +715,15 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           start.started_at = unix_now();
           start.predicted_cpu_s = estimate_job(job, samples);
           auto attempt = store.claim(row.id, start);
+          std::optional<double> predicted;
+          if (start.predicted_cpu_s)
+            predicted = *start.predicted_cpu_s * per_thread;
+          progress.job_started(predicted);
           if (!attempt)
             continue; // another runner took it
           Task t;
+          t.started = std::chrono::steady_clock::now();
+          t.predicted_s = predicted;
           t.label = label_of(job, ex.varying);
           t.running_label = running_label(job, ex.varying);
           t.job_id = row.id;
@@ -832,7 +843,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
               detail += "  " + first_line;
               failures.push_back(label + ": " + first_line);
             }
-            progress.finished(to_string(f.state), label, detail, o.child.wall_s);
+            progress.finished(to_string(f.state), label, detail, o.child.wall_s,
+                              o.task.predicted_s);
           }
           release_folder_lock(o.task);
           running.erase(o.task.job_id);
@@ -844,11 +856,12 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
         progress.set_running(running.size());
         {
           // Each running job's simulated-time fraction, as its worker last wrote it (<= 1/s).
-          std::vector<std::pair<std::string, double>> fr;
+          std::vector<ProgressJob> fr;
+          const auto now = std::chrono::steady_clock::now();
           for (const auto& [id, t] : running)
-            if (auto x = read_progress(t.progress))
-              fr.emplace_back(t.running_label, *x);
-          progress.set_fractions(std::move(fr));
+            fr.push_back({t.running_label, read_progress(t.progress).value_or(0.0),
+                          std::chrono::duration<double>(now - t.started).count(), t.predicted_s});
+          progress.set_running_jobs(std::move(fr));
         }
         progress.tick();
 

@@ -220,7 +220,10 @@ int main(int argc, char** argv) {
   status->add_option("study", status_study, "Only this study");
   status->add_option("--db", db_status, "Database file")->capture_default_str();
 
-  auto* cases = app.add_subcommand("cases", "List the cases and their parameters");
+  auto* cases = app.add_subcommand("cases", "List the cases and their parameters; one case with "
+                                            "its metrics and outputs");
+  std::string cases_name;
+  cases->add_option("case", cases_name, "Only this case, with its metrics and HDF5 datasets");
 
   TableOptions topt;
   std::string db_table = default_db;
@@ -420,7 +423,7 @@ int main(int argc, char** argv) {
       if (*status)
         return cmd_status(db_status, status_study, std::cout);
       if (*cases)
-        return cmd_cases(std::cout);
+        return cmd_cases(std::cout, cases_name);
       if (*table)
         return cmd_table(db_table, topt, std::cout);
       if (*converge) {

@@ -39,7 +39,8 @@ std::string Progress::counter() const {
 }
 
 void Progress::finished(const std::string& state, const std::string& label,
-                        const std::string& detail, std::optional<double> wall_s) {
+                        const std::string& detail, std::optional<double> wall_s,
+                        std::optional<double> predicted_s) {
   ++done_;
   if (state == "failed" || state == "timeout")
     ++failed_;
@@ -48,11 +49,8 @@ void Progress::finished(const std::string& state, const std::string& label,
   if (wall_s && (state == "done" || state == "diverged")) {
     job_s_sum_ += *wall_s;
     ++job_s_n_;
-  }
-  bool notable = state != "done";
-  if (live_ && !notable) {
-    tick();
-    return;
+    if (predicted_s && *predicted_s > 0)
+      measured_s_ += *wall_s, predicted_s_ += *predicted_s;
   }
   if (live_ && drawn_)
     out_ << "\r\033[K";
@@ -69,22 +67,43 @@ void Progress::set_running(std::size_t n) {
   running_ = n;
 }
 
+void Progress::job_started(std::optional<double> predicted_s) {
+  if (!predicted_s || plan_n_ == 0)
+    return;
+  plan_s_ = std::max(plan_s_ - *predicted_s, 0.0);
+  --plan_n_;
+}
+
 std::string Progress::eta() const {
-  std::optional<double> per_job;
+  std::optional<double> per_job; // for jobs without an estimate
   if (job_s_n_ > 0)
     per_job = job_s_sum_ / static_cast<double>(job_s_n_);
   else
     per_job = prior_job_s_;
-  if (!per_job)
+  const double ratio = predicted_s_ > 0 ? measured_s_ / predicted_s_ : 1.0;
+  double work = 0, longest = 0;
+  for (const ProgressJob& r : running_jobs_) {
+    const double f = std::clamp(r.fraction, 0.0, 1.0);
+    double rest;
+    if (f >= 0.02 && r.elapsed_s > 0)
+      rest = r.elapsed_s * (1.0 - f) / f;
+    else if (r.predicted_s)
+      rest = std::max(*r.predicted_s * ratio - r.elapsed_s, 0.0);
+    else if (per_job)
+      rest = *per_job * (1.0 - f);
+    else
+      return "?";
+    work += rest;
+    longest = std::max(longest, rest);
+  }
+  const std::size_t left = total_ - std::min(done_, total_);
+  const std::size_t pending = left - std::min(running_jobs_.size(), left);
+  const std::size_t unknown = pending - std::min(plan_n_, pending);
+  if (unknown > 0 && !per_job)
     return "?";
-  // Work left in jobs: those not started, plus what the running ones have still to do.
-  double in_flight = 0;
-  for (const auto& [label, f] : fractions_)
-    in_flight += std::clamp(f, 0.0, 1.0);
-  double left = static_cast<double>(total_ - std::min(done_, total_)) - in_flight;
-  double parallel =
-      static_cast<double>(std::min(workers_, std::max<std::size_t>(total_ - done_, 1)));
-  return format_duration(std::max(left, 0.0) * *per_job / parallel);
+  work += plan_s_ * ratio + static_cast<double>(unknown) * per_job.value_or(0.0);
+  const double parallel = static_cast<double>(std::min(workers_, std::max<std::size_t>(left, 1)));
+  return format_duration(std::max(work / parallel, longest));
 }
 
 std::string Progress::line() const {
@@ -93,9 +112,10 @@ std::string Progress::line() const {
                   std::to_string(failed_) + ", diverged " + std::to_string(diverged_) +
                   ", elapsed " + format_duration(elapsed) + ", ETA " + eta();
   std::size_t shown = 0;
-  for (const auto& [label, f] : fractions_) {
+  for (const ProgressJob& r : running_jobs_) {
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%s %.0f%%", label.c_str(), 100 * std::clamp(f, 0.0, 1.0));
+    std::snprintf(buf, sizeof buf, "%s %.0f%%", r.label.c_str(),
+                  100 * std::clamp(r.fraction, 0.0, 1.0));
     s += (shown++ == 0 ? " | " : ", ") + std::string(buf);
   }
   return s;

@@ -1,13 +1,16 @@
 // Progress of a sweep. On a terminal: one live line (done/total, running, failed, diverged,
 // elapsed, ETA, and each running job's simulated-time fraction), redrawn in place, with failures
-// printed above it. Otherwise (a pipe, a log file, a batch job): one plain line per finished job,
-// and a plain progress line every `log_every_s` seconds while jobs run, so a long job in a log is
-// never silent.
+// every finished job's line printed above it. Otherwise (a pipe, a log file, a batch job): one
+// plain line per finished job, and a plain progress line every `log_every_s` seconds while jobs
+// run, so a long job in a log is never silent.
 //
-// ETA from measured job times: the mean wall time of the jobs finished in this run (before the
-// first one, the mean of the study's earlier attempts in the database), times the work left
-// (jobs not started, plus 1 - f of each running job at simulated-time fraction f), divided by the
-// number of workers.
+// ETA, the work left divided by the workers (never less than the longest running job's rest):
+// - a running job at simulated-time fraction f after e seconds has e (1 - f) / f left (its own
+//   rate, once f >= 2 %); before that, its cost-model estimate less e;
+// - a job not started, its cost-model estimate (cost.hpp);
+// each estimate scaled by the ratio of measured to estimated time of the jobs finished in this run.
+// A job without an estimate counts as the mean wall time of the jobs finished in this run (before
+// the first one, of the study's earlier attempts in the database).
 #pragma once
 
 #include <chrono>
@@ -19,19 +22,35 @@
 
 namespace sph::runner {
 
+// A running job as the progress line sees it.
+struct ProgressJob {
+  std::string label;                 // short label (varying parameters)
+  double fraction = 0;               // simulated-time fraction 0..1
+  double elapsed_s = 0;              // wall seconds since it started
+  std::optional<double> predicted_s; // the cost model's wall seconds for it
+};
+
 class Progress {
 public:
   Progress(std::ostream& out, bool live, std::size_t total, std::size_t workers = 1);
   // One job finished after wall_s seconds. `label` identifies it (key prefix and varying params),
   // `detail` is the timing and first metric or the error.
+  // predicted_s: the cost model's wall seconds for it.
   void finished(const std::string& state, const std::string& label, const std::string& detail,
-                std::optional<double> wall_s = std::nullopt);
+                std::optional<double> wall_s = std::nullopt,
+                std::optional<double> predicted_s = std::nullopt);
   void set_running(std::size_t n);
   // Mean wall time of earlier attempts of this study's jobs (from the database), used for the ETA
   // until a job of this run finishes.
   void set_prior_job_s(std::optional<double> s) { prior_job_s_ = s; }
-  // Simulated-time fraction (0..1) of each running job, by short label.
-  void set_fractions(std::vector<std::pair<std::string, double>> f) { fractions_ = std::move(f); }
+  // The running jobs.
+  void set_running_jobs(std::vector<ProgressJob> r) { running_jobs_ = std::move(r); }
+  // The cost model's wall seconds (one worker) of the jobs not started, and how many jobs that
+  // covers (the others have no estimate); job_started takes a job out of it.
+  void set_plan(double predicted_s, std::size_t n_predicted) {
+    plan_s_ = predicted_s, plan_n_ = n_predicted;
+  }
+  void job_started(std::optional<double> predicted_s);
   // Live: redraws the line (at most 5 times a second). Plain: prints a progress line every
   // log_every_s seconds while jobs run.
   void tick();
@@ -59,7 +78,10 @@ private:
   bool drawn_ = false;
   std::size_t width_ = 0; // 0: do not cut
   double log_every_s_ = 60;
-  std::vector<std::pair<std::string, double>> fractions_;
+  std::vector<ProgressJob> running_jobs_;
+  double plan_s_ = 0;
+  std::size_t plan_n_ = 0;
+  double measured_s_ = 0, predicted_s_ = 0; // finished jobs with an estimate: both sums
   void draw();
   std::string counter() const;
 };

@@ -796,22 +796,28 @@ std::optional<Store::JobSummary> Store::job_summary(const std::string& key) {
 }
 
 std::map<std::string, std::vector<CostSample>>
-Store::cost_samples(const std::vector<std::pair<std::string, std::string>>& case_schemes,
-                    std::size_t limit) {
+Store::cost_samples(const std::vector<std::string>& schemes, std::size_t limit) {
   std::map<std::string, std::vector<CostSample>> out;
-  Stmt q = db_.prepare(
-      "SELECT a.cpu_s, (SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='n_particles'), "
-      "(SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='steps'), j.params_json FROM "
-      "jobs j JOIN "
-      "attempts a ON a.job_id=j.id AND a.attempt=j.attempts AND a.state='done' WHERE "
-      "j.case_name=? AND j.scheme=? "
-      "AND j.state='done' AND a.cpu_s IS NOT NULL ORDER BY a.finished_at DESC "
-      "LIMIT ?");
-  for (const auto& [c, sch] : case_schemes) {
-    auto& v = out[c + "/" + (sch.empty() ? "-" : sch)];
-    q.bind(1, c).bind(2, sch).bind(3, static_cast<std::int64_t>(limit));
-    while (q.step())
-      v.push_back({q.real(0), q.opt_real(1), q.opt_real(2), q.text(3)});
+  auto metric = [](const char* name) {
+    return std::string("(SELECT value FROM metrics m WHERE m.job_id=j.id AND m.name='") + name +
+           "')";
+  };
+  Stmt q = db_.prepare("SELECT a.cpu_s, " + metric("n_particles") + ", " + metric("steps") +
+                       ", j.params_json, j.case_name, coalesce(" + metric("work_steps") + ", " +
+                       metric("acoustic_steps") + "), " + metric("dimension") + ", " +
+                       metric("predicted_work") +
+                       " FROM jobs j JOIN attempts a ON a.job_id=j.id AND a.attempt=j.attempts "
+                       "AND a.state='done' WHERE j.scheme=? AND j.state='done' AND a.cpu_s IS NOT "
+                       "NULL ORDER BY a.finished_at DESC LIMIT ?");
+  for (const auto& sch : schemes) {
+    q.bind(1, sch).bind(2, static_cast<std::int64_t>(limit));
+    while (q.step()) {
+      CostSample c{q.real(0), q.opt_real(1), q.opt_real(2), q.text(3), q.opt_real(5),
+                   {},        q.opt_real(7)};
+      if (auto d = q.opt_real(6))
+        c.dim = static_cast<int>(*d);
+      out[q.text(4) + "/" + (sch.empty() ? "-" : sch)].push_back(std::move(c));
+    }
     q.reset();
   }
   return out;

@@ -325,11 +325,11 @@ public:
   std::optional<JobSummary> job_summary(const std::string& key);
 
   // Done jobs' last attempts (a diverged job stopped early: not a rate) with their CPU time and
-  // their n_particles and
-  // steps metrics, for each "case/scheme" ("-" for no scheme) asked; at most `limit` each.
+  // size metrics (n_particles, steps, work_steps or acoustic_steps, dimension,
+  // predicted_work), of every case
+  // with one of these schemes ("" for none), by "case/scheme"; at most `limit` per scheme.
   std::map<std::string, std::vector<CostSample>>
-  cost_samples(const std::vector<std::pair<std::string, std::string>>& case_schemes,
-               std::size_t limit = 2000);
+  cost_samples(const std::vector<std::string>& schemes, std::size_t limit = 2000);
 
   // Jobs in a state, all studies.
   std::size_t count_in_state(JobState s);

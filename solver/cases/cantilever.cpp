@@ -255,7 +255,8 @@ CaseInfo make_cantilever_case() {
   CaseInfo c;
   c.name = "cantilever";
   c.description = "2D elastic cantilever under its own weight: static deflection and first-mode "
-                  "frequency against Euler-Bernoulli (the solid of issue 18, seed 002 sect. 4.3)";
+                  "frequency against Euler-Bernoulli (the solid of the FSI case, Wang, Haidn & Hu "
+                  "2024 section 4.3)";
   c.schemes = {"elastic_solid"};
   c.params = {
       {"L", ParamType::Real, 0.35, "beam length (m)", 0.0, {}, true},
@@ -289,6 +290,10 @@ CaseInfo make_cantilever_case() {
     if (g.nL < 2)
       return "cantilever: the beam needs at least 2 particles along L";
     return std::nullopt;
+  };
+  c.size = [](const Params& prm) {
+    Cantilever cl(prm);
+    return size_flow_case<2>(cl, prm, "elastic_solid");
   };
   c.run = [](const Params& prm, const RunContext& ctx) {
     Cantilever cl(prm);

@@ -20,6 +20,18 @@
 
 namespace sph {
 
+// What a job will cost, known before it runs (the runner's cost model multiplies it by a measured
+// CPU time per particle and elementary step): the particles of its initial configuration, the
+// steps to t_end at the scheme's stable step of that configuration, and the elementary steps per
+// step (wcsph_tvf's acoustic sub-steps; 1 for the other schemes). A case that stops early (a
+// steady state, a divergence) takes fewer steps: for those the estimate is an upper bound.
+struct JobSize {
+  double particles = 0;
+  double steps = 0;
+  double work_per_step = 1;
+  int dim = 2;
+};
+
 struct CaseInfo {
   std::string name;
   std::string description;          // one line, with the paper and section
@@ -29,7 +41,37 @@ struct CaseInfo {
   // Optional: the case's own constraints on a resolved parameter set, checked when a study is
   // validated (before anything runs): an error message ("1/dx must be an integer"), or nullopt.
   std::function<std::optional<std::string>(const Params&)> check;
+  // Optional: the size of a job (JobSize) from its resolved parameters, by setting the case up
+  // without running it (size_flow_case in cases/time_loop.hpp). Without it the job's cost is
+  // unknown before it runs.
+  std::function<JobSize(const Params&)> size;
+  // What a job records besides the time loop's costs (flow_loop_metrics below) and its scheme's
+  // counters (SchemeInfo::metrics): the case's metrics and the datasets of its HDF5 file. Empty:
+  // not declared (the case's doc page lists them).
+  std::vector<OutputDoc> metrics;
+  std::vector<OutputDoc> datasets;
+  // A test fixture of the runner, not a physical case: not listed by `runner cases`.
+  bool test_fixture = false;
 };
+
+// The metrics every flow case's job records (the costs of run_flow_case, cases/time_loop.hpp).
+inline const std::vector<OutputDoc>& flow_loop_metrics() {
+  static const std::vector<OutputDoc> m{
+      {"steps", "time steps taken"},
+      {"work_steps", "elementary steps (wcsph_tvf: acoustic sub-steps; else = steps)"},
+      {"wall_time_s", "wall-clock seconds of the job (all attempts)"},
+      {"cpu_time_s", "CPU seconds of the job's process (all threads, all attempts)"},
+      {"time_per_step_s", "wall seconds per step"},
+      {"cpu_time_per_step_s", "CPU seconds per step"},
+      {"time_per_particle_step_s", "wall seconds per particle and elementary step"},
+      {"n_particles", "largest particle count of the run (all kinds)"},
+      {"dimension", "2 or 3"},
+      {"predicted_work", "particles x steps x elementary steps per step, as the cost model sized "
+                         "the job before it ran"},
+      {"t_stop", "simulated time at which a diverged job stopped (diverged jobs only)"},
+  };
+  return m;
+}
 
 // All registered cases (by name), and look-up by name (nullptr when no case has that name).
 inline const std::vector<CaseInfo>& case_registry() {

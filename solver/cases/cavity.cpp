@@ -259,6 +259,11 @@ std::optional<std::string> cavity_dx_check(const Params& prm) {
   return std::string(buf);
 }
 
+JobSize size_cavity(const Params& prm, bool cylinder) {
+  Cavity c(prm, cylinder);
+  return size_flow_case<2>(c, prm, "isph");
+}
+
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder) {
   Cavity c(prm, cylinder);
   c.output_dir_ = ctx.output_dir, c.job_key_ = ctx.job_key;

@@ -50,6 +50,8 @@ CavityGeometry cavity_geometry(const Params& prm, bool cylinder, double support)
 std::vector<ParamSpec> cavity_params(bool cylinder);
 
 RunResult run_cavity(const Params& prm, const RunContext& ctx, bool cylinder);
+// Its size before it runs (CaseInfo::size).
+JobSize size_cavity(const Params& prm, bool cylinder);
 
 // The cavity cases' constraint on their parameters (CaseInfo::check): 1/dx an integer >= 4.
 std::optional<std::string> cavity_dx_check(const Params& prm);

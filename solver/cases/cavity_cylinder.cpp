@@ -14,6 +14,7 @@ CaseInfo make_cavity_cylinder_case() {
   c.schemes = {"isph", "wcsph_tvf"};
   c.params = cavity_params(true);
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cavity(prm, ctx, true); };
+  c.size = [](const Params& prm) { return size_cavity(prm, true); };
   c.check = cavity_dx_check; // build_cavity's constraint, checked when the study is validated
   return c;
 }

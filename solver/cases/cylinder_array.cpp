@@ -261,14 +261,15 @@ RunResult run_cylinder_array(const Params& prm, const RunContext& ctx) {
 CaseInfo make_cylinder_array_case() {
   CaseInfo c;
   c.name = "cylinder_array";
-  c.description = "Stokes flow through a square array of cylinders: drag K vs Sangani & Acrivos "
-                  "(1982); contact SPH with and without the zeta correction (seed 003, 5.5)";
+  c.description =
+      "Stokes flow through a square array of cylinders: drag K vs Sangani & Acrivos "
+      "(1982); contact SPH with and without the zeta correction (Parshikov et al. 2023, 5.5)";
   c.schemes = {"contact"};
   c.params = {
       {"material",
        ParamType::String,
        std::string("glycerol"),
-       "liquid: a Table 1 material of seed 003 (rho0, c0, eta)",
+       "liquid: a Table 1 material of Parshikov et al. 2023 (rho0, c0, eta)",
        {},
        {},
        false,
@@ -292,6 +293,11 @@ CaseInfo make_cylinder_array_case() {
   };
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cylinder_array(prm, ctx); };
+  c.size = [](const Params& prm) {
+    const RunContext none;
+    CylinderArrayCase c(prm, none);
+    return size_flow_case<2>(c, prm, "contact");
+  };
   return c;
 }
 

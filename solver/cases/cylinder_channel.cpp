@@ -412,6 +412,11 @@ CaseInfo make_cylinder_channel_case() {
   };
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cylinder_channel(prm, ctx); };
+  c.size = [](const Params& prm) {
+    const RunContext none;
+    CylinderChannelCase c(prm, none);
+    return size_flow_case<2>(c, prm, "alsph");
+  };
   return c;
 }
 

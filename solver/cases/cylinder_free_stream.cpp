@@ -399,7 +399,7 @@ CaseInfo make_cylinder_free_stream_case() {
   CaseInfo c;
   c.name = "cylinder_free_stream";
   c.description = "2D flow past a cylinder in a free stream (periodic box with a sponge zone), "
-                  "C_D, C_L, St (Wang, Haidn & Hu, seed 002, section 4.4, Table 2)";
+                  "C_D, C_L, St (Wang, Haidn & Hu 2024, section 4.4, Table 2)";
   c.schemes = {"wcsph_tvf"};
   c.params = {
       {"Re", ParamType::Real, 100.0, "Reynolds number U D / nu", 0.0, 1e4, true},
@@ -452,6 +452,11 @@ CaseInfo make_cylinder_free_stream_case() {
        1e3, true},
   };
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
+  c.size = [](const Params& prm) {
+    const RunContext none;
+    CylinderFreeStream c(prm, none);
+    return size_flow_case<2>(c, prm, "wcsph_tvf");
+  };
   c.run = [](const Params& prm, const RunContext& ctx) {
     CylinderFreeStream cfs(prm, ctx);
     return run_flow_case<2>(cfs, prm, ctx, "wcsph_tvf");

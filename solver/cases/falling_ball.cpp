@@ -268,14 +268,15 @@ RunResult run_falling_ball(const Params& prm, const RunContext& ctx) {
 CaseInfo make_falling_ball_case() {
   CaseInfo c;
   c.name = "falling_ball";
-  c.description = "Aluminium ball falling in water in a cylindrical vessel: terminal velocity "
-                  "against Stokes with a wall factor; contact SPH with zeta (seed 003, 5.3)";
+  c.description =
+      "Aluminium ball falling in water in a cylindrical vessel: terminal velocity "
+      "against Stokes with a wall factor; contact SPH with zeta (Parshikov et al. 2023, 5.3)";
   c.schemes = {"contact"};
   c.params = {
       {"liquid",
        ParamType::String,
        std::string("water"),
-       "liquid in the vessel: a Table 1 material of seed 003",
+       "liquid in the vessel: a Table 1 material of Parshikov et al. 2023",
        {},
        {},
        false,
@@ -283,7 +284,7 @@ CaseInfo make_falling_ball_case() {
       {"ball",
        ParamType::String,
        std::string("aluminum"),
-       "material of the ball: a Table 1 material of seed 003",
+       "material of the ball: a Table 1 material of Parshikov et al. 2023",
        {},
        {},
        false,
@@ -328,6 +329,11 @@ CaseInfo make_falling_ball_case() {
   };
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) { return run_falling_ball(prm, ctx); };
+  c.size = [](const Params& prm) {
+    const RunContext none;
+    FallingBallCase c(prm, none);
+    return size_flow_case<3>(c, prm, "contact");
+  };
   return c;
 }
 

@@ -223,6 +223,11 @@ CaseInfo make_free_stream_box_case() {
       {"speed_bound", ParamType::Real, 5.0, "diverged when max |u| exceeds this many U", 1.0, 1e6},
   };
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
+  c.size = [](const Params& prm) {
+    const RunContext none;
+    FreeStreamBox c(prm, none);
+    return size_flow_case<2>(c, prm, "wcsph_tvf");
+  };
   c.run = [](const Params& prm, const RunContext& ctx) {
     FreeStreamBox b(prm, ctx);
     return run_flow_case<2>(b, prm, ctx, "wcsph_tvf");

@@ -457,8 +457,8 @@ private:
 CaseInfo make_fsi_beam_case() {
   CaseInfo c;
   c.name = "fsi_beam";
-  c.description = "elastic beam behind a cylinder in a channel, Turek & Hron FSI2 (seed 002 sect. "
-                  "4.3): wcsph_tvf fluid coupled to the elastic_solid beam";
+  c.description = "elastic beam behind a cylinder in a channel, Turek & Hron FSI2 (Wang, Haidn & "
+                  "Hu 2024, section 4.3): wcsph_tvf fluid coupled to the elastic_solid beam";
   c.schemes = {"wcsph_tvf"};
   c.params = {
       {"H_over_dx", ParamType::Int, std::int64_t{4},
@@ -492,6 +492,11 @@ CaseInfo make_fsi_beam_case() {
       return "fsi_beam: wall_dissipation = normal needs rigid_beam = true (the normals of the "
              "moving beam are not updated)";
     return std::nullopt;
+  };
+  c.size = [](const Params& prm) {
+    const RunContext none;
+    FsiBeam c(prm, none);
+    return size_flow_case<2>(c, prm, "wcsph_tvf");
   };
   c.run = [](const Params& prm, const RunContext& ctx) {
     FsiBeam b(prm, ctx);

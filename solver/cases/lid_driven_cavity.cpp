@@ -13,6 +13,7 @@ CaseInfo make_lid_driven_cavity_case() {
   c.schemes = {"isph", "wcsph_tvf"};
   c.params = cavity_params(false);
   c.run = [](const Params& prm, const RunContext& ctx) { return run_cavity(prm, ctx, false); };
+  c.size = [](const Params& prm) { return size_cavity(prm, false); };
   c.check = cavity_dx_check; // build_cavity's constraint, checked when the study is validated
   return c;
 }

@@ -235,7 +235,7 @@ private:
 CaseInfo make_lid_driven_cavity_3d_case() {
   CaseInfo c;
   c.name = "lid_driven_cavity_3d";
-  c.description = "Lid-driven cubic cavity, mid-plane profiles (Wang, Haidn & Hu, seed 002, "
+  c.description = "Lid-driven cubic cavity, mid-plane profiles (Wang, Haidn & Hu 2024, "
                   "section 4.5; Albensoeder & Kuhlmann 2005 at Re = 1000)";
   c.schemes = {"wcsph_tvf", "isph"};
   // The 2D cavity's parameters, with defaults for the cube.
@@ -246,6 +246,10 @@ CaseInfo make_lid_driven_cavity_3d_case() {
     if (auto it = defaults.find(spec.name); it != defaults.end())
       spec.default_value = it->second;
 
+  c.size = [](const Params& prm) {
+    Cavity3D c(prm);
+    return size_flow_case<3>(c, prm, "wcsph_tvf");
+  };
   c.run = [](const Params& prm, const RunContext& ctx) {
     Cavity3D cav(prm);
     cav.output_dir_ = ctx.output_dir, cav.job_key_ = ctx.job_key;

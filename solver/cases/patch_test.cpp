@@ -143,7 +143,8 @@ CaseInfo make_patch_test_case() {
       {"visc",
        ParamType::String,
        std::string("visc04"),
-       "viscous Laplacian form (seed 001 eqs. 15-20; visc03t: VISC-03 with the tensor reading "
+       "viscous Laplacian form (Zheng, Ma & Shao 2018, eqs. 15-20; visc03t: VISC-03 with the "
+       "tensor reading "
        "tr(B^-1) / D of H_bb^-1 / kappa)",
        {},
        {},

@@ -373,7 +373,7 @@ CaseInfo make_shear_layer_case() {
   CaseInfo c;
   c.name = "shear_layer";
   c.description = "Shear layer of two sliding layers vs the erf solution; numerical viscosity of "
-                  "contact SPH (Parshikov et al., seed 003, sections 3 and 5.1-5.2)";
+                  "contact SPH (Parshikov et al. 2023, sections 3 and 5.1-5.2)";
   c.schemes = {"contact"};
   std::vector<std::string> mats = material_keys();
   mats.push_back("custom");
@@ -383,7 +383,8 @@ CaseInfo make_shear_layer_case() {
       {"material",
        ParamType::String,
        std::string("lead"),
-       "liquid of both layers: a Table 1 material of seed 003, or custom (rho0, c0, eta)",
+       "liquid of both layers: a Table 1 material of Parshikov et al. 2023, or custom (rho0, c0, "
+       "eta)",
        {},
        {},
        false,
@@ -449,6 +450,16 @@ CaseInfo make_shear_layer_case() {
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) {
     return get_int(prm, "dim") == 3 ? run_shear_layer<3>(prm, ctx) : run_shear_layer<2>(prm, ctx);
+  };
+  c.size = [](const Params& prm) {
+    if (get_int(prm, "dim") == 3) {
+      const RunContext none;
+      ShearLayerCase<3> c(prm, none);
+      return size_flow_case<3>(c, prm, "contact");
+    }
+    const RunContext none;
+    ShearLayerCase<2> c(prm, none);
+    return size_flow_case<2>(c, prm, "contact");
   };
   return c;
 }

@@ -216,15 +216,16 @@ RunResult run_spreading_drop(const Params& prm, const RunContext& ctx) {
 CaseInfo make_spreading_drop_case() {
   CaseInfo c;
   c.name = "spreading_drop";
-  c.description = "2D drop spreading on a no-slip floor under gravity, contact SPH with and "
-                  "without zeta (seed 003, 5.6, Fig. 12); a viscometer by Huppert's (1982) "
-                  "similarity solution";
+  c.description =
+      "2D drop spreading on a no-slip floor under gravity, contact SPH with and "
+      "without zeta (Parshikov et al. 2023, 5.6, Fig. 12); a viscometer by Huppert's (1982) "
+      "similarity solution";
   c.schemes = {"contact"};
   c.params = {
       {"material",
        ParamType::String,
        std::string("water"),
-       "liquid: a Table 1 material of seed 003 (rho0, c0, eta)",
+       "liquid: a Table 1 material of Parshikov et al. 2023 (rho0, c0, eta)",
        {},
        {},
        false,
@@ -260,6 +261,11 @@ CaseInfo make_spreading_drop_case() {
   };
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
   c.run = [](const Params& prm, const RunContext& ctx) { return run_spreading_drop(prm, ctx); };
+  c.size = [](const Params& prm) {
+    const RunContext none;
+    SpreadingDropCase c(prm, none);
+    return size_flow_case<2>(c, prm, "contact");
+  };
   return c;
 }
 

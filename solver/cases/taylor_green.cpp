@@ -249,7 +249,7 @@ CaseInfo make_taylor_green_case() {
   CaseInfo c;
   c.name = "taylor_green";
   c.description = "2D Taylor-Green vortex, unit periodic square: kinetic-energy decay and "
-                  "transport-velocity over-correction (Wang, Haidn & Hu, seed 002, section 4.1)";
+                  "transport-velocity over-correction (Wang, Haidn & Hu 2024, section 4.1)";
   c.schemes = {"wcsph_tvf"};
   c.params = {
       {"n_side", ParamType::Int, std::int64_t{100}, "particles per side (dx = 1 / n_side)", 8.0,
@@ -261,6 +261,34 @@ CaseInfo make_taylor_green_case() {
       {"seed", ParamType::Int, std::int64_t{1}, "random seed of the perturbation", 0.0, {}},
   };
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
+  c.metrics = {
+      {"ke_rate_rel_err",
+       "relative error of the fitted kinetic-energy decay rate against -16 pi^2 / Re"},
+      {"ke_rel_err_end", "|E_k / E_k,exact - 1| at t_end"},
+      {"umax_rel_err_end", "|max |v| / its analytic value - 1| at t_end"},
+      {"l1_vel_err_end", "sum_i ||v_i| - |v_exact(r_i)|| / sum_i |v_exact(r_i)| at t_end"},
+      {"tv_ratio_max",
+       "largest transport-velocity magnitude over the flow's max |v| (> 1: over-correction)"},
+      {"sumW_spread_end", "max - min of sum_j W_ij over sigma0 (the lattice's) at t_end"},
+      {"sumW_rms_end", "RMS deviation of sum_j W_ij / sigma0 from 1 at t_end"},
+      {"sumW_spread_max", "largest sumW spread over the run"},
+      {"ke_rate", "fitted decay rate of ln E_k"},
+      {"ke_rate_exact", "analytic decay rate -16 pi^2 / Re (U = L = 1)"},
+      {"ke_end", "kinetic energy at t_end"},
+      {"umax_end", "max |v| at t_end"},
+      {"t_end", "simulated time reached"},
+      {"advection_steps", "advection steps (eq. 10's step)"},
+      {"wall_s", "wall seconds of the time loop"},
+      {"time_per_particle_adv_step_s", "wall seconds per particle and advection step"},
+  };
+  c.datasets = {
+      {"series", "per sample: t, ke, ke_exact, umax, umax_exact, tv_max, tv_ratio, sumW_spread"},
+      {"fields", "particles at t_end: x, y, ux, uy, p (the vortex in ParaView: docs/fields.md)"},
+  };
+  c.size = [](const Params& prm) {
+    TaylorGreen c(prm);
+    return size_flow_case<2>(c, prm, "wcsph_tvf");
+  };
   c.run = [](const Params& prm, const RunContext& ctx) {
     TaylorGreen tg(prm);
     tg.output_dir_ = ctx.output_dir, tg.job_key_ = ctx.job_key;

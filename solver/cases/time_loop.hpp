@@ -99,6 +99,31 @@ public:
   virtual void load_state(const StateArrays&) {}
 };
 
+// The size of a flow case's job (JobSize, cases/case.hpp) on its initial configuration, with the
+// scheme set up on it: the particles, the steps to t_end at the scheme's stable step there (at
+// least the scheme's own reference speed) and the elementary steps per step.
+template <int D>
+JobSize initial_size(const FlowCase<D>& c, const Particles<D>& p, const FlowScheme<D>& s) {
+  JobSize z;
+  z.dim = D;
+  z.particles = static_cast<double>(p.size());
+  const double dt = s.stable_dt();
+  z.steps = dt > 0 ? std::ceil(c.t_end() / dt * (1.0 - 1e-12)) : 0.0;
+  z.work_per_step = s.work_per_step();
+  return z;
+}
+
+// The same without running the job (CaseInfo::size).
+template <int D>
+JobSize size_flow_case(FlowCase<D>& c, const Params& prm, const std::string& default_scheme) {
+  Particles<D> p;
+  Flow<D> flow = c.build(p);
+  flow.p = &p;
+  std::unique_ptr<FlowScheme<D>> s = make_scheme<D>(prm, flow, default_scheme);
+  s->init();
+  return initial_size(c, p, *s);
+}
+
 // Runs a flow case with the job's scheme (parameter "scheme", else the case's default scheme)
 // through the shared loop.
 template <int D>
@@ -113,6 +138,10 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
   flow.p = &p;
   std::unique_ptr<FlowScheme<D>> s = make_scheme<D>(prm, flow, default_scheme);
   s->init();
+  // What the cost model predicts for this job (its metric predicted_work): a later estimate of
+  // the same case learns the model's bias for it from the ratio of CPU time to this.
+  const JobSize z0 = initial_size(c, p, *s);
+  double predicted_work = z0.particles * z0.steps * z0.work_per_step;
   c.start(*s);
 
   RunResult res;
@@ -127,6 +156,7 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     std::vector<std::string> names = io::particle_array_names(p);
     names.push_back("loop/costs");
     names.push_back("loop/n_particles_max");
+    names.push_back("loop/predicted_work");
     for (auto& n : c.state_names())
       names.push_back(n);
     for (auto& n : s->state_names())
@@ -139,6 +169,9 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       const auto& nm = st->arrays.at("loop/n_particles_max");
       io::expect_state_size(nm, 1, "checkpoint array loop/n_particles_max");
       n_max = nm[0];
+      const auto& pw = st->arrays.at("loop/predicted_work");
+      io::expect_state_size(pw, 1, "checkpoint array loop/predicted_work");
+      predicted_work = pw[0];
       c.load_state(st->arrays);
       s->load_state(st->arrays);
       s->resume();
@@ -164,6 +197,7 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     io::add_particle_arrays(p, st.arrays);
     st.arrays["loop/costs"] = {cpu_so_far(), wall_so_far()};
     st.arrays["loop/n_particles_max"] = {n_max};
+    st.arrays["loop/predicted_work"] = {predicted_work};
     c.save_state(st.arrays);
     s->save_state(st.arrays);
     ck.save(st);
@@ -179,9 +213,12 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       res.add("time_per_step_s", at.wall_s / steps);
       res.add("cpu_time_per_step_s", at.cpu_s / steps);
     }
+    res.add("work_steps", static_cast<double>(s->work_steps()));
     if (s->work_steps() > 0)
       res.add("time_per_particle_step_s", at.wall_s / (N * static_cast<double>(s->work_steps())));
     res.add("n_particles", N);
+    res.add("dimension", D);
+    res.add("predicted_work", predicted_work);
   };
   auto diverged = [&](const std::string& why) {
     snaps.final_state(at.t, at.steps);

@@ -163,13 +163,24 @@ public:
   virtual void add_metrics(RunResult& res, double wall_s) const = 0;
   // Elementary steps for the cost per particle-step (acoustic sub-steps, or steps).
   virtual long work_steps() const = 0;
+  // Elementary steps the next step would take (wcsph_tvf: its acoustic sub-steps), for the cost
+  // estimate of a job before it runs.
+  virtual double work_per_step() const { return 1.0; }
 };
 
 // A scheme's registry entry: its parameters and how it is made for a 2D or 3D flow.
+// A recorded metric or an HDF5 dataset, with its one-line meaning (runner cases CASE).
+struct OutputDoc {
+  std::string name;
+  std::string doc;
+};
+
 struct SchemeInfo {
   std::string name;
   std::string description; // one line, with the paper
   std::vector<ParamSpec> params;
+  // The scheme's own counters among a job's metrics (add_metrics), name and one-line meaning.
+  std::vector<OutputDoc> metrics;
   bool slip_walls = false;    // imposes Flow::slip_walls
   bool free_stream = false;   // calls Flow's before_density, after_density, after_kick hooks
   bool moving_bodies = false; // takes Flow's a_wall, wall_force and body_motion

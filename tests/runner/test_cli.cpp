@@ -238,6 +238,7 @@ TEST(Progress, LiveLineAndPlainLogLinesShowRunningFractionsAndEta) {
   EXPECT_CONTAINS(live.out, "%");
   EXPECT_CONTAINS(live.out, " | ");
   EXPECT_EQ(live.out.find("ETA ?"), std::string::npos) << live.out;
-  EXPECT_EQ(live.out.find("[1/1] done"), std::string::npos); // done jobs only update the line
+  // A finished job's line stays above the live line (cleared, printed, line redrawn below).
+  EXPECT_CONTAINS(live.out, "\r\033[K[1/1] done ");
   EXPECT_CONTAINS(live.out, "prog: 3 jobs: 3 done");
 }

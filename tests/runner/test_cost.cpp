@@ -1,12 +1,14 @@
-// Issue 16 part 4 (first step): the cost of a study before it runs. particles x steps x seconds
-// per particle-step, calibrated from the database's finished jobs; --dry-run prints it, and a run
-// estimated at more than an hour of wall time needs --yes.
+// The cost of a study before it runs: particles x steps x elementary steps per step from the case
+// (CaseInfo::size) times seconds per particle-step, calibrated from the database's finished jobs
+// (this case first, then other cases of the scheme and dimension, then a measured default);
+// --dry-run prints it, and a run estimated at more than an hour of wall time needs --yes.
 #include "cost.hpp"
 #include "e2e_helpers.hpp"
 #include "expand.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 
 using namespace sph::runner;
@@ -73,17 +75,20 @@ TEST(Cost, EstimatesUseTheDatabasesFinishedJobsWhenThereAreAny) {
   std::vector<const JobSpec*> jobs{&ex.jobs[0], &ex.jobs[1]};
   auto size0 = cost_size(ex.jobs[0]), size1 = cost_size(ex.jobs[1]);
   ASSERT_TRUE(size0 && size1);
-  // D/dx = 10 in the 14 x 13 channel: (182 - pi/4) x 100 particles; 10 x 10 / dt_star steps.
-  EXPECT_NEAR(size0->particles, (14.0 * 13.0 - 3.14159265358979 / 4) * 100, 1e-6);
-  EXPECT_NEAR(size0->steps, 10.0 * 10 / 5.08e-3, 1e-6);
-  EXPECT_NEAR(size1->particles / size0->particles, 4, 1e-12);
-  EXPECT_NEAR(size1->steps / size0->steps, 2, 1e-12);
+  // D/dx = 10 in the 14 x 13 channel: about (182 - pi/4) x 100 fluid particles and the walls;
+  // t_end / dt steps with dt = dt_star dx / U (the default dt_star 5.08e-3).
+  EXPECT_NEAR(size0->particles / ((14.0 * 13.0 - 3.14159265358979 / 4) * 100), 1.05, 0.05);
+  EXPECT_EQ(size0->steps, std::ceil(10.0 * 10 / 5.08e-3));
+  EXPECT_EQ(size1->steps, std::ceil(10.0 * 20 / 5.08e-3));
+  EXPECT_NEAR(size1->particles / size0->particles, 4, 0.2);
+  EXPECT_EQ(size0->work_per_step, 1.0);
 
   // Nothing finished: the measured default of the job's algorithm (the study leaves it at the
   // scheme's default, Algorithm 1: 5.06 us per particle-step).
   auto d = estimate_jobs(jobs, {});
   EXPECT_EQ(d.estimated, 2u);
-  EXPECT_NEAR(d.cpu_s, 5.06e-6 * (size0->particles * size0->steps + size1->particles * size1->steps),
+  EXPECT_NEAR(d.cpu_s,
+              5.06e-6 * (size0->particles * size0->steps + size1->particles * size1->steps),
               1e-6 * d.cpu_s);
   // Finished jobs at 2 us per particle-step (the median of three): that rate.
   std::map<std::string, std::vector<CostSample>> s = {
@@ -125,18 +130,65 @@ D_over_dx = [10, 20]
   EXPECT_NEAR(c.wall_s(2), c.longest_job_s, 1e-9 * c.cpu_s); // one job dominates
   EXPECT_NEAR(c.wall_s(1), c.cpu_s, 1e-9 * c.cpu_s);
 
-  // A case without a formula: the median CPU time of its finished jobs; none: no estimate.
+  // A case that cannot size its jobs: no estimate, whatever the database holds (the CPU time of
+  // other jobs of the case is no measure of these).
   Expansion p = expand(parse_study(
       "[study]\nname = \"p\"\ncase = \"patch_test\"\n[sweep]\nseed = [1, 2, 3]\n", "p.toml"));
   std::vector<const JobSpec*> pj{&p.jobs[0], &p.jobs[1], &p.jobs[2]};
   EXPECT_FALSE(cost_size(p.jobs[0]));
-  auto none = estimate_jobs(pj, {});
-  EXPECT_EQ(none.estimated, 0u);
-  EXPECT_EQ(none.unknown, 3u);
-  auto med =
-      estimate_jobs(pj, {{"patch_test/-", {{0.5, 400.0, {}}, {0.1, {}, {}}, {0.3, {}, {}}}}});
-  EXPECT_EQ(med.estimated, 3u);
-  EXPECT_NEAR(med.cpu_s, 3 * 0.3, 1e-12);
+  for (const CostSamples& sm :
+       {CostSamples{}, CostSamples{{"patch_test/-", {{0.5, 400.0, {}}, {0.1, {}, {}}}}}}) {
+    auto none = estimate_jobs(pj, sm);
+    EXPECT_EQ(none.estimated, 0u);
+    EXPECT_EQ(none.unknown, 3u);
+    EXPECT_CONTAINS(none.basis.at(0), "unknown (the case cannot size its jobs");
+  }
+}
+
+// A case the database has never seen takes the rate of the scheme's jobs of the same dimension in
+// other cases; its elementary steps (wcsph_tvf: acoustic sub-steps) carry the rate across.
+TEST(Cost, ANewCaseIsEstimatedFromTheSchemesOtherCasesOfItsDimension) {
+  Expansion ex = expand(parse_study(R"([study]
+name = "t"
+case = "taylor_green"
+scheme = "wcsph_tvf"
+[params]
+t_end = 1.0
+[sweep]
+n_side = [40]
+)",
+                                    "t.toml"));
+  const JobSpec& job = ex.jobs.at(0);
+  auto size = cost_size(job);
+  ASSERT_TRUE(size);
+  EXPECT_EQ(size->particles, 1600);
+  EXPECT_EQ(size->dim, 2);
+  EXPECT_GT(size->work_per_step, 2.0); // c0 = 10 U: several acoustic sub-steps per step
+  const double work = size->particles * size->steps * size->work_per_step;
+  // 2D cavity jobs at 0.5 us per particle and acoustic step (1000 particles, 100 steps of 4
+  // sub-steps, 0.2 s); a 3D one at 50 us and a 2D one that did not record its dimension, unused.
+  CostSamples sm = {{"lid_driven_cavity/wcsph_tvf",
+                     {{0.2, 1e3, 100.0, "{}", 400.0, 2},
+                      {0.2, 1e3, 100.0, "{}", 400.0, 2},
+                      {20.0, 1e3, 100.0, "{}", 400.0, 3},
+                      {9.0, 1e3, 100.0, "{}", 400.0, {}}}}};
+  std::string how;
+  auto c = estimate_job(job, sm, &how);
+  ASSERT_TRUE(c);
+  EXPECT_NEAR(*c, 0.5e-6 * work, 1e-9 * *c);
+  EXPECT_CONTAINS(how, "of other cases of this scheme and dimension");
+  // Jobs of its own case win over the other cases', per particle-step as they were sized before
+  // they ran: this one took 5e5 particle-steps (1000 x 500) where it was sized at 2.5e5, so the
+  // case's rate is 1 s / 2.5e5 (the size's shortfall for this case is learned), not 1 s / 5e5.
+  sm["taylor_green/wcsph_tvf"] = {{1.0, 1e3, 100.0, "{}", 500.0, 2, 2.5e5}};
+  EXPECT_NEAR(*estimate_job(job, sm, &how), 4e-6 * work, 1e-9 * work);
+  EXPECT_CONTAINS(how, "of this case in the database");
+  // A sample recorded before jobs reported their predicted size: per particle-step taken.
+  sm["taylor_green/wcsph_tvf"] = {{1.0, 1e3, 100.0, "{}", 500.0, 2}};
+  EXPECT_NEAR(*estimate_job(job, sm), 2e-6 * work, 1e-9 * work);
+  // Nothing in the database: the scheme's published 2D rate per acoustic sub-step.
+  EXPECT_NEAR(*estimate_job(job, {}, &how), 0.27e-6 * work, 1e-9 * work);
+  EXPECT_CONTAINS(how, "per acoustic sub-step");
 }
 
 TEST(Cost, FormatsCostsInReadableUnits) {
@@ -160,8 +212,8 @@ TEST(Cost, ARunRecordsEachJobsPredictionBesideItsCostAndLaterEstimatesLearnFromI
   // Algorithm 2).
   auto dry = run_runner(dir, "'" + src + "alsph_iter.toml' --tier quick --dry-run");
   ASSERT_EQ(dry.code, 0) << dry.out;
-  EXPECT_CONTAINS(dry.out, "per particle-step (median of the 1 finished job(s) in the database "
-                           "closest in scheme parameters)");
+  EXPECT_CONTAINS(dry.out, "per particle-step (median of the 1 finished job(s) of this case in the "
+                           "database closest in scheme parameters)");
 }
 
 // The progress line names running jobs by their varying parameters, not key prefixes.

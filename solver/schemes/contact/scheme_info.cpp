@@ -129,7 +129,7 @@ SchemeInfo make_contact_scheme() {
   SchemeInfo s;
   s.name = "contact";
   s.description = "Godunov-type contact SPH with numerical-viscosity correction zeta "
-                  "(Parshikov, Medin, Rublev & Dyachkov, seed 003)";
+                  "(Parshikov, Medin, Rublev & Dyachkov 2023)";
   s.params = contact::table().specs();
   s.slip_walls = true;
   s.make2 = &contact::make<2>;

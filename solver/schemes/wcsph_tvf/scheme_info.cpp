@@ -8,6 +8,9 @@
 #include "io/particle_checkpoint.hpp"
 #include "operators/wall_velocity.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace sph {
 
 namespace wcsph_tvf {
@@ -39,7 +42,7 @@ const ParamTable<Options>& table() {
                    "linear kernel-gradient correction B in the pressure force and the TVF residue")
           .boolean("shift_velocity", &Options::shift_velocity,
                    "tvf = smoothing_length / limited: carry the velocity along the TVF shift, "
-                   "v_i += (grad v_i) Delta r_i (a Taylor correction, not in seed 002)")
+                   "v_i += (grad v_i) Delta r_i (a Taylor correction, not in Wang, Haidn & Hu)")
           .boolean("riemann_density", &Options::riemann_density,
                    "the continuity's Riemann term rho_i sum_j (p_i - p_j) / (rho0 c0) V_j dW_ij "
                    "(1st half; SPHinXsys: on)")
@@ -128,6 +131,10 @@ public:
     res.add("neighbour_builds", static_cast<double>(s_.verlet().builds()));
   }
   long work_steps() const override { return s_.acoustic_steps(); }
+  // The acoustic sub-steps of one advection step (eq. 11 within eq. 10's step).
+  double work_per_step() const override {
+    return std::max(1.0, std::ceil(s_.advection_dt() / s_.acoustic_dt() * (1.0 - 1e-12)));
+  }
 
   wcsph_tvf::Scheme<D, K>& core() { return s_; }
 
@@ -197,8 +204,10 @@ Options options_for_flow(const Params& prm, double rho0, double U, double L, dou
 SchemeInfo make_wcsph_tvf_scheme() {
   SchemeInfo s;
   s.name = "wcsph_tvf";
+  s.metrics = {{"acoustic_steps", "acoustic sub-steps (eq. 11) of the whole run"},
+               {"neighbour_builds", "Verlet-list rebuilds"}};
   s.description = "Riemann WCSPH, dual-criteria time stepping and transport-velocity correction "
-                  "with limiter (Wang, Haidn & Hu, arXiv:2411.13992, seed 002)";
+                  "with limiter (Wang, Haidn & Hu, arXiv:2411.13992)";
   s.params = wcsph_tvf::table().specs();
   for (auto& spec : s.params)
     if (spec.name == "shift_velocity" || spec.name == "riemann_density" ||
