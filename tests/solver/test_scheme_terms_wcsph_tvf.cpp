@@ -19,6 +19,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 using namespace sph;
 using namespace sph::wcsph_tvf;
@@ -540,4 +541,43 @@ TEST(WcsphTvfTerms, RiemannDensityTermSwitch) {
     ASSERT_NEAR(d_on[i], e_on[i], 1e-6 * scale) << i;
     ASSERT_NEAR(d_off[i], 0.0, 1e-6 * scale) << i;
   }
+}
+
+// Why the cavity's errors grow with c0 (docs/tvf.md, "What grows with c0"): the continuity's
+// Riemann term drho_i = rho_i sum_j (p_i - p_j) / (rho0 c0) V_j dW_ij changes the pressure at
+// dp_i/dt = c0^2 drho_i, a diffusion of the pressure field (it lowers the maxima: sum_i p_i dp_i/dt
+// < 0) whose rate, for the same pressure field, is proportional to c0: twice the sound speed,
+// twice the smoothing of the flow's pressure per unit time (over an advection step that does not
+// depend on c0). The fluid is at rest, so the velocity part of the continuity equation is zero.
+TEST(WcsphTvfTerms, RiemannDensityTermDiffusesThePressureAtARateProportionalToC0) {
+  Periodic s(32);
+  Scheme<2, WendlandC2<2>> sc(s.p, s.f, s.box, s.o);
+  sc.init();
+  const double k = 2.0 * std::numbers::pi;
+  for (std::size_t i = 0; i < s.p.size(); ++i)
+    s.p.p[i] = std::cos(k * s.p.r[i][0]) * std::cos(k * s.p.r[i][1]);
+  auto dp_dt = [&](double c0) {
+    std::vector<Vec2> zero(s.p.size(), Vec2::Zero()), F(s.p.size());
+    std::vector<double> drho(s.p.size(), 0.0);
+    ops::FirstHalf<2> op{s.p, nullptr, zero, nullptr, 0.0, 1.0 / (s.o.rho0 * c0), F, drho};
+    interact(sc.neighbors(), op);
+    for (double& d : drho)
+      d *= c0 * c0;
+    return drho;
+  };
+  const std::vector<double> a = dp_dt(10.0), b = dp_dt(20.0);
+  double corr = 0.0, pp = 0.0, scale = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    corr += s.p.p[i] * a[i], pp += s.p.p[i] * s.p.p[i];
+    scale = std::max(scale, std::abs(a[i]));
+  }
+  ASSERT_GT(scale, 0.0);
+  for (std::size_t i = 0; i < a.size(); ++i)
+    ASSERT_NEAR(b[i], 2.0 * a[i], 1e-12 * scale) << i;
+  // A diffusion: dp/dt = -kappa k^2 p for this Fourier mode with kappa > 0 (kappa ~ c0 h).
+  const double kappa = -corr / (pp * 2.0 * k * k);
+  EXPECT_GT(kappa, 0.1 * 10.0 * s.o.h);
+  EXPECT_LT(kappa, 10.0 * 10.0 * s.o.h);
+  std::printf("pressure diffusivity of the Riemann density term at c0 = 10: %.4g = %.3g c0 h\n",
+              kappa, kappa / (10.0 * s.o.h));
 }
