@@ -2,6 +2,7 @@
 // fits slopes, draws the figures with gnuplot and writes a static HTML page with every table.
 #include "report.hpp"
 
+#include "cases/case.hpp"
 #include "commands.hpp"
 #include "diagnostics.hpp"
 #include "io/hdf5.hpp"
@@ -84,6 +85,61 @@ struct Job {
   json params; // identity params, plus "scheme" when the case has schemes
   std::map<std::string, std::optional<double>> metrics;
 };
+
+// A study that declares no [[figures]]: each of its metrics (the case's declared ones, else every
+// metric its done jobs recorded but the time loop's costs and the scheme's counters; at most 12)
+// against the first swept parameter that varies among the jobs shown, one curve per value of the
+// next varying one. None when no parameter varies.
+std::vector<FigureSpec> default_figures(const Study& study, const std::vector<Job>& jobs) {
+  auto varies = [&](const std::string& name) {
+    std::set<std::string> v;
+    for (const Job& j : jobs)
+      v.insert(j.params.contains(name) ? j.params[name].dump() : "");
+    return v.size() > 1;
+  };
+  std::vector<std::string> axes;
+  for (const Axis& a : study.sweep)
+    if (varies(a.name))
+      axes.push_back(a.name);
+  if (axes.empty())
+    return {};
+  std::vector<std::string> metrics;
+  const CaseInfo* info = find_case(study.case_name);
+  if (info && !info->metrics.empty()) {
+    for (const auto& m : info->metrics)
+      metrics.push_back(m.name);
+  } else {
+    std::set<std::string> skip;
+    for (const auto& m : flow_loop_metrics())
+      skip.insert(m.name);
+    for (const auto& sch : scheme_registry())
+      for (const auto& m : sch.metrics)
+        skip.insert(m.name);
+    std::set<std::string> seen;
+    for (const Job& j : jobs)
+      if (j.state == "done")
+        for (const auto& [name, v] : j.metrics)
+          if (v && !skip.count(name) && seen.insert(name).second)
+            metrics.push_back(name);
+  }
+  if (metrics.size() > 12)
+    metrics.resize(12);
+  std::vector<FigureSpec> out;
+  for (const std::string& m : metrics) {
+    FigureSpec f;
+    f.name = "default_" + m;
+    f.title = m + " against " + axes[0] + " (default figure: the study declares none)";
+    f.x = axes[0];
+    f.y = {m};
+    if (axes.size() > 1)
+      f.group = {axes[1]};
+    for (const Job& j : jobs)
+      if (j.params.contains(axes[0]) && j.params[axes[0]].is_string())
+        f.x_is_string = true;
+    out.push_back(std::move(f));
+  }
+  return out;
+}
 
 std::string html(const std::string& s) {
   std::string o;
@@ -627,6 +683,9 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
   std::map<std::string, std::size_t> states;
   for (const auto& j : jobs)
     ++states[j.state];
+  const bool declared = !figures.empty();
+  if (!declared)
+    figures = default_figures(study, jobs);
 
   fs::path out_dir = o.out_dir;
   if (out_dir.empty())
@@ -715,10 +774,12 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
     << "</p>\n";
   for (const auto& n : notices)
     h << "<p class=\"notice\">" << html(n) << "</p>\n";
-  if (figures.empty())
-    h << "<p class=\"notice\">This study declares no figures: add [[figures]] tables to "
-      << html(study_file.string()) << " (see docs/report.md).</p>\n";
-  else {
+  if (!declared)
+    h << "<p class=\"notice\">This study declares no figures"
+      << (figures.empty() ? "" : ": each metric against the first swept parameter below")
+      << "; add [[figures]] tables to " << html(study_file.string())
+      << " to choose them (see docs/report.md).</p>\n";
+  if (!figures.empty()) {
     h << "<ul>\n";
     for (const auto& f : figures)
       h << "<li><a href=\"#" << html(f.name) << "\">" << html(f.title.empty() ? f.name : f.title)

@@ -322,3 +322,23 @@ group = ["h_over_dx"]
   std::string page = read_file(dir / "elsewhere" / "rep" / "index.html");
   EXPECT_EQ(count(page, "<td>energy</td><td>3</td>"), 2u) << page;
 }
+
+// A study without [[figures]] still gets a page with figures: each metric its jobs recorded (the
+// case declares none here) against the first swept parameter, one curve per value of the next.
+TEST(ReportE2E, AStudyWithoutFiguresGetsEachMetricAgainstItsFirstAxis) {
+  TempDir dir;
+  write_text(dir / "bare.toml", "[study]\nname = \"bare\"\ncase = \"patch_test\"\n[params]\n"
+                                "lattice = \"uniform\"\n[sweep]\nn_side = [8, 9]\n"
+                                "visc = [\"visc01\", \"visc03\"]\n");
+  ASSERT_EQ(run(dir, "bare.toml -j 2 --db r/db.sqlite").code, 0);
+  auto r = run(dir, "report bare.toml --db r/db.sqlite --out rep");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::string page = read_file(dir / "rep" / "index.html");
+  EXPECT_CONTAINS(page, "This study declares no figures: each metric against the first swept");
+  EXPECT_CONTAINS(page, "err against n_side (default figure");
+  EXPECT_TRUE(fs::exists(dir / "rep" / "default_err.gp"));
+  EXPECT_CONTAINS(read_file(dir / "rep" / "default_err.gp"), "visc");
+  if (have_gnuplot())
+    EXPECT_TRUE(fs::exists(dir / "rep" / "default_err.svg") ||
+                fs::exists(dir / "rep" / "default_err.png"));
+}
