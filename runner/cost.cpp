@@ -130,9 +130,10 @@ std::optional<double> estimate_job(const JobSpec& job, const CostSamples& sample
       else if (s.dim == size->dim)
         other.push_back(&s);
   }
-  // The median rate of the pool's samples closest in scheme parameters that reported their size.
+  // The median rate of the pool's samples closest in scheme parameters that reported their size,
+  // per predicted particle-step for the job's own case (where the sample has it), else per
+  // particle-step taken.
   double rate = 0;
-  // this_case: per predicted particle-step where the sample has it.
   auto use = [&](const std::vector<const CostSample*>& pool, bool this_case, const char* where) {
     std::vector<double> k;
     std::vector<CostSample> sized;

@@ -138,10 +138,11 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
   flow.p = &p;
   std::unique_ptr<FlowScheme<D>> s = make_scheme<D>(prm, flow, default_scheme);
   s->init();
-  // What the cost model predicts for this job (its metric predicted_work): a later estimate of
-  // the same case learns the model's bias for it from the ratio of CPU time to this.
+  // What the cost model predicts for this job (its metric predicted_work; the initial
+  // configuration, so a resumed attempt computes the same): a later estimate of the same case
+  // learns the model's bias for it from the ratio of CPU time to this.
   const JobSize z0 = initial_size(c, p, *s);
-  double predicted_work = z0.particles * z0.steps * z0.work_per_step;
+  const double predicted_work = z0.particles * z0.steps * z0.work_per_step;
   c.start(*s);
 
   RunResult res;
@@ -156,7 +157,6 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     std::vector<std::string> names = io::particle_array_names(p);
     names.push_back("loop/costs");
     names.push_back("loop/n_particles_max");
-    names.push_back("loop/predicted_work");
     for (auto& n : c.state_names())
       names.push_back(n);
     for (auto& n : s->state_names())
@@ -169,9 +169,6 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
       const auto& nm = st->arrays.at("loop/n_particles_max");
       io::expect_state_size(nm, 1, "checkpoint array loop/n_particles_max");
       n_max = nm[0];
-      const auto& pw = st->arrays.at("loop/predicted_work");
-      io::expect_state_size(pw, 1, "checkpoint array loop/predicted_work");
-      predicted_work = pw[0];
       c.load_state(st->arrays);
       s->load_state(st->arrays);
       s->resume();
@@ -197,7 +194,6 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
     io::add_particle_arrays(p, st.arrays);
     st.arrays["loop/costs"] = {cpu_so_far(), wall_so_far()};
     st.arrays["loop/n_particles_max"] = {n_max};
-    st.arrays["loop/predicted_work"] = {predicted_work};
     c.save_state(st.arrays);
     s->save_state(st.arrays);
     ck.save(st);
