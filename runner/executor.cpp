@@ -76,6 +76,7 @@ struct Task {
   fs::path spec, result, log, progress, output_dir;
   int lock_fd = -1; // flock on <output_dir>/.attempt.lock while the attempt runs
   JobRecord record; // params.json of the job's folder
+  fs::path alias;   // by-params/ link to the folder (alias_of)
   std::chrono::steady_clock::time_point started;
   std::optional<double> predicted_s; // the cost model's wall seconds (ETA)
 };
@@ -224,6 +225,34 @@ std::string running_label(const JobSpec& job, const std::vector<std::string>& va
     if (auto it = job.params.find(name); it != job.params.end())
       s += (s.empty() ? "" : " ") + name + "=" + format_value_plain(it->second);
   return s.empty() ? job.key.substr(0, 8) : s;
+}
+
+// The readable alias of a job's folder: <study folder>/by-params/<varying params>_<key prefix>,
+// a relative symlink to ../<key> ("dx=0.01,visc=visc03_3fa81c2e"; the key prefix keeps jobs of
+// different tiers with the same varying values apart).
+fs::path alias_of(const fs::path& output_dir, const JobSpec& job,
+                  const std::vector<std::string>& varying) {
+  std::string s;
+  for (const auto& name : varying)
+    if (auto it = job.params.find(name); it != job.params.end())
+      s += (s.empty() ? "" : ",") + name + "=" + format_value_plain(it->second);
+  for (char& c : s)
+    if (c == '/' || c == ' ')
+      c = '_';
+  return output_dir.parent_path() / "by-params" /
+         ((s.empty() ? "" : s + "_") + job.key.substr(0, 8));
+}
+
+// Creates the alias (if missing); a failure is a warning, the job runs.
+void make_alias(const fs::path& alias, const fs::path& output_dir, std::ostream& err) {
+  std::error_code ec;
+  if (fs::is_symlink(alias, ec))
+    return;
+  fs::create_directories(alias.parent_path(), ec);
+  fs::create_directory_symlink(fs::path("..") / output_dir.filename(), alias, ec);
+  if (ec)
+    err << "warning: cannot create the folder alias " << alias.string() << ": " << ec.message()
+        << "\n";
 }
 
 std::string short_number(double x) {
@@ -747,6 +776,8 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           std::string holder;
           try {
             fs::create_directories(t.output_dir);
+            t.alias = alias_of(t.output_dir, job, ex.varying);
+            make_alias(t.alias, t.output_dir, err);
             if (!take_folder_lock(t, &holder)) {
               // Another attempt (a runner that was stopped, or on another host sharing this
               // folder) still works in the job's folder: never two attempts in one folder.
@@ -826,6 +857,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
               f.output_dir = o.task.output_dir.string();
             } else {
               fs::remove(o.task.output_dir, ec);
+              fs::remove(o.task.alias, ec);
             }
             if (!store.finish(o.task.job_id, o.task.attempt, host, pid, f)) {
               ++lost;

@@ -237,3 +237,29 @@ TEST(Cost, TheFirstRunsEtaComesFromTheCostModel) {
   EXPECT_CONTAINS(r.out, "\r\033[K[0/4] running ");
   EXPECT_EQ(r.out.find("ETA ?"), std::string::npos) << r.out;
 }
+
+// Each job's folder has a readable alias, by-params/<varying params>_<key prefix> -> ../<key>; a
+// job that writes nothing leaves neither folder nor alias.
+TEST(JobFolders, AReadableAliasPointsToEachJobsFolder) {
+  TempDir dir;
+  write_text(dir / "s.toml", "[study]\nname = \"tg\"\ncase = \"taylor_green\"\n[params]\n"
+                             "t_end = 0.05\n[sweep]\nn_side = [8, 10]\n");
+  auto r = run_runner(dir, "s.toml -j 2 --progress plain");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const fs::path by = dir / "results" / "tg" / "by-params";
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(by)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_TRUE(name.rfind("n_side=8_", 0) == 0 || name.rfind("n_side=10_", 0) == 0) << name;
+    EXPECT_TRUE(fs::is_symlink(e.path()));
+    EXPECT_TRUE(fs::exists(e.path() / "taylor_green.h5")) << name;
+    EXPECT_EQ(fs::read_symlink(e.path()).parent_path(), fs::path(".."));
+    ++n;
+  }
+  EXPECT_EQ(n, 2u);
+  write_text(dir / "p.toml", "[study]\nname = \"p\"\ncase = \"patch_test\"\n[sweep]\n"
+                             "n_side = [8, 9]\n");
+  ASSERT_EQ(run_runner(dir, "p.toml").code, 0);
+  EXPECT_FALSE(fs::exists(dir / "results" / "p" / "by-params") &&
+               !fs::is_empty(dir / "results" / "p" / "by-params"));
+}
