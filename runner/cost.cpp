@@ -63,13 +63,13 @@ std::string param_text(const ParamValue& v) {
 // The samples that share the most scheme parameters with the job (all of them when the scheme
 // has none or no sample records its parameters).
 std::vector<const CostSample*> closest_samples(const JobSpec& job,
-                                               const std::vector<CostSample>& sm) {
+                                               const std::vector<const CostSample*>& sm) {
   std::vector<const CostSample*> out;
   const SchemeInfo* scheme = job.scheme.empty() ? nullptr : find_scheme(job.scheme);
   int best = -1;
-  for (const CostSample& s : sm) {
+  for (const CostSample* s : sm) {
     int same = 0;
-    const nlohmann::json p = nlohmann::json::parse(s.params_json, nullptr, false);
+    const nlohmann::json p = nlohmann::json::parse(s->params_json, nullptr, false);
     if (scheme && p.is_object())
       for (const ParamSpec& spec : scheme->params) {
         const auto jv = job.params.find(spec.name);
@@ -82,7 +82,7 @@ std::vector<const CostSample*> closest_samples(const JobSpec& job,
     if (same > best)
       best = same, out.clear();
     if (same == best)
-      out.push_back(&s);
+      out.push_back(s);
   }
   return out;
 }
@@ -136,10 +136,10 @@ std::optional<double> estimate_job(const JobSpec& job, const CostSamples& sample
   double rate = 0;
   auto use = [&](const std::vector<const CostSample*>& pool, bool this_case, const char* where) {
     std::vector<double> k;
-    std::vector<CostSample> sized;
+    std::vector<const CostSample*> sized;
     for (const CostSample* s : pool)
       if (s->particles && s->steps && *s->particles > 0 && *s->steps > 0)
-        sized.push_back(*s);
+        sized.push_back(s);
     for (const CostSample* s : closest_samples(job, sized))
       k.push_back(s->cpu_s / (this_case && s->predicted_work && *s->predicted_work > 0
                                   ? *s->predicted_work

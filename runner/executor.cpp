@@ -210,21 +210,26 @@ private:
   bool closed_ = false;
 };
 
-std::string label_of(const JobSpec& job, const std::vector<std::string>& varying) {
-  std::string s = job.key.substr(0, 12);
+// The job's values of the varying parameters, "name=value" joined by sep.
+std::string varying_values(const JobSpec& job, const std::vector<std::string>& varying,
+                           const char* sep) {
+  std::string s;
   for (const auto& name : varying)
     if (auto it = job.params.find(name); it != job.params.end())
-      s += " " + name + "=" + format_value_plain(it->second);
+      s += (s.empty() ? "" : sep) + name + "=" + format_value_plain(it->second);
   return s;
+}
+
+// A finished job's line: its key prefix and varying parameters.
+std::string label_of(const JobSpec& job, const std::vector<std::string>& varying) {
+  const std::string v = varying_values(job, varying, " ");
+  return job.key.substr(0, 12) + (v.empty() ? "" : " " + v);
 }
 
 // A running job on the progress line: its varying parameters (the key prefix when none vary).
 std::string running_label(const JobSpec& job, const std::vector<std::string>& varying) {
-  std::string s;
-  for (const auto& name : varying)
-    if (auto it = job.params.find(name); it != job.params.end())
-      s += (s.empty() ? "" : " ") + name + "=" + format_value_plain(it->second);
-  return s.empty() ? job.key.substr(0, 8) : s;
+  const std::string v = varying_values(job, varying, " ");
+  return v.empty() ? job.key.substr(0, 8) : v;
 }
 
 // The readable alias of a job's folder: <study folder>/by-params/<varying params>_<key prefix>,
@@ -232,10 +237,7 @@ std::string running_label(const JobSpec& job, const std::vector<std::string>& va
 // different tiers with the same varying values apart).
 fs::path alias_of(const fs::path& output_dir, const JobSpec& job,
                   const std::vector<std::string>& varying) {
-  std::string s;
-  for (const auto& name : varying)
-    if (auto it = job.params.find(name); it != job.params.end())
-      s += (s.empty() ? "" : ",") + name + "=" + format_value_plain(it->second);
+  std::string s = varying_values(job, varying, ",");
   for (char& c : s)
     if (c == '/' || c == ' ')
       c = '_';

@@ -113,14 +113,25 @@ JobSize initial_size(const FlowCase<D>& c, const Particles<D>& p, const FlowSche
   return z;
 }
 
-// The same without running the job (CaseInfo::size).
+// A job's initial configuration: the case's geometry in p (flow: its scales and walls) and the
+// job's scheme set up on it. The one set-up of both running and sizing a job.
 template <int D>
-JobSize size_flow_case(FlowCase<D>& c, const Params& prm, const std::string& default_scheme) {
-  Particles<D> p;
-  Flow<D> flow = c.build(p);
+std::unique_ptr<FlowScheme<D>> set_up_flow_case(FlowCase<D>& c, Particles<D>& p, Flow<D>& flow,
+                                                const Params& prm,
+                                                const std::string& default_scheme) {
+  flow = c.build(p);
   flow.p = &p;
   std::unique_ptr<FlowScheme<D>> s = make_scheme<D>(prm, flow, default_scheme);
   s->init();
+  return s;
+}
+
+// The size of a job without running it (CaseInfo::size).
+template <int D>
+JobSize size_flow_case(FlowCase<D>& c, const Params& prm, const std::string& default_scheme) {
+  Particles<D> p;
+  Flow<D> flow;
+  const auto s = set_up_flow_case(c, p, flow, prm, default_scheme);
   return initial_size(c, p, *s);
 }
 
@@ -134,10 +145,8 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
   const auto t_start = clock::now();
 
   Particles<D> p;
-  Flow<D> flow = c.build(p);
-  flow.p = &p;
-  std::unique_ptr<FlowScheme<D>> s = make_scheme<D>(prm, flow, default_scheme);
-  s->init();
+  Flow<D> flow;
+  std::unique_ptr<FlowScheme<D>> s = set_up_flow_case(c, p, flow, prm, default_scheme);
   // What the cost model predicts for this job (its metric predicted_work; the initial
   // configuration, so a resumed attempt computes the same): a later estimate of the same case
   // learns the model's bias for it from the ratio of CPU time to this.

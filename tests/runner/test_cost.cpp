@@ -26,16 +26,11 @@ double cpu_hours(const std::string& out) {
   return std::atof(out.substr(e + 10, h - e - 10).c_str());
 }
 
-Expansion channel_jobs() {
-  return expand(parse_study(R"([study]
-name = "c"
-case = "cylinder_channel"
-scheme = "alsph"
-[params]
-t_end = 10.0
-[sweep]
-D_over_dx = [10, 20]
-)",
+// cylinder_channel with ALSPH, t_end = 10, D/dx = 10 and 20; `params`: more [params] lines.
+Expansion channel_jobs(const std::string& params = "") {
+  return expand(parse_study("[study]\nname = \"c\"\ncase = \"cylinder_channel\"\nscheme = "
+                            "\"alsph\"\n[params]\nt_end = 10.0\n" +
+                                params + "[sweep]\nD_over_dx = [10, 20]\n",
                             "c.toml"));
 }
 
@@ -109,17 +104,7 @@ TEST(Cost, EstimatesUseTheDatabasesFinishedJobsWhenThereAreAny) {
   EXPECT_NEAR(estimate_jobs(jobs, mixed).cpu_s,
               5e-6 * (size0->particles * size0->steps + size1->particles * size1->steps),
               1e-9 * c.cpu_s);
-  Expansion ex1 = expand(parse_study(R"([study]
-name = "c"
-case = "cylinder_channel"
-scheme = "alsph"
-[params]
-t_end = 10.0
-algorithm = 2
-[sweep]
-D_over_dx = [10, 20]
-)",
-                                     "c1.toml"));
+  Expansion ex1 = channel_jobs("algorithm = 2\n");
   std::vector<const JobSpec*> jobs1{&ex1.jobs[0], &ex1.jobs[1]};
   EXPECT_NEAR(estimate_jobs(jobs1, mixed).cpu_s,
               2e-6 * (size0->particles * size0->steps + size1->particles * size1->steps),
