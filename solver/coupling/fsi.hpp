@@ -25,6 +25,11 @@
 //                v_ave_i = (x_i(t0 + Dt) - x_i(t0)) / Dt,  a_ave_i = (v_ave_i - v_ave_i,prev) / Dt
 //              and the images are moved to the solid's positions (before the fluid's neighbour
 //              search).
+//   normals    optional (follow_normals): the images' wall normals turn with the solid, as
+//              SPHinXsys' solid normal update (the normal of a surface element under F):
+//                n_i = F_i^-T n0_i / |F_i^-T n0_i|
+//              with n0_i the image's normal in the reference configuration and F_i the solid
+//              scheme's deformation gradient at the step's end positions.
 // The coupling is explicit and staggered: the fluid step sees the solid's positions and averaged
 // velocity of the end of the previous step, the solid step the fluid's force of the step just
 // made (SPHinXsys exchanges at every acoustic sub-step of the fluid; here at the advection step:
@@ -62,6 +67,28 @@ public:
       fluid.scalar(id_)[k] = static_cast<double>(solid.id[i] + 1);
     }
     fluid_ = &fluid, solid_ = &solid;
+  }
+
+  // The images' wall normals (the fluid flow's `normal` field, set by the case in the reference
+  // configuration) turn with the solid at every step (see the header). Call after add_images and
+  // after the case filled the normals; keeps n0 in the solid set (field fsi/normal0, so
+  // checkpoints carry it).
+  void follow_normals(Flow<D>& fluid_flow) {
+    if (fluid_flow.normal < 0 || !fluid_ || !solid_)
+      throw std::logic_error("fsi: follow_normals needs the images and the fluid's normals");
+    normal_ = fluid_flow.normal;
+    normal0_ = solid_->add_vector("fsi/normal0");
+    auto& n0 = solid_->vector(normal0_);
+    std::vector<long> at(solid_->size(), -1); // solid id -> index (the solid is not sorted yet)
+    for (std::size_t i = 0; i < solid_->size(); ++i)
+      at[static_cast<std::size_t>(solid_->id[i])] = static_cast<long>(i);
+    const auto& n = fluid_->vector(normal_);
+    for (std::size_t k = 0; k < fluid_->size(); ++k) {
+      const double id = fluid_->scalar(id_)[k];
+      if (id > 0.5)
+        n0[static_cast<std::size_t>(at[static_cast<std::size_t>(id) - 1])] = n[k];
+    }
+    fluid_flow.normals_follow_bodies = true;
   }
 
   // The fields and hook of the two flows.
@@ -138,13 +165,32 @@ public:
       fluid.v[k] = vw[k] = v_ave[u];
       aw[k] = a_ave_[u];
     }
+    if (normal_ >= 0)
+      turn_normals(fluid);
   }
 
 private:
+  // n_k = F_i^-T n0_i / |F_i^-T n0_i| for every image k of solid particle i.
+  void turn_normals(Particles<D>& fluid) const {
+    const std::vector<Mat<D>>* F = scheme_->deformation_gradient();
+    if (!F)
+      throw std::logic_error("fsi: the solid scheme has no deformation gradient");
+    const auto& n0 = solid_->vector(normal0_);
+    auto& n = fluid.vector(normal_);
+    for (std::size_t k = 0; k < fluid.size(); ++k) {
+      const long i = solid_index(fluid, k);
+      if (i < 0)
+        continue;
+      const auto u = static_cast<std::size_t>(i);
+      n[k] = ((*F)[u].inverse().transpose() * n0[u]).normalized();
+    }
+  }
+
   Particles<D>* fluid_ = nullptr;
   Particles<D>* solid_ = nullptr;
   FlowScheme<D>* scheme_ = nullptr;
   int f_ext_ = -1, v_ave_ = -1, id_ = -1, v_wall_ = -1, a_wall_ = -1, wall_force_ = -1;
+  int normal_ = -1, normal0_ = -1;
   std::vector<long> index_;
   std::vector<Vec<D>> x0_, a_ave_;
   int last_substeps_ = 0;

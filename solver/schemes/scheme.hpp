@@ -54,6 +54,7 @@ struct Flow {
                                     // walls, SchemeInfo::slip_walls false, rejects the flow)
   int normal = -1; // vector field: outward unit normal of the Body particles (-1: none; a scheme
                    // with a body-pressure condition needs it)
+  bool normals_follow_bodies = false; // body_motion also turns `normal` with the moving bodies
   // Open boundaries: sets the pressure of the Buffer particles on the current neighbour list,
   // called by a scheme whenever it updates pressures (empty: buffers keep theirs).
   std::function<void(Particles<D>&, const NeighborList<D>&)> buffer_pressure;
@@ -166,6 +167,9 @@ public:
   // Elementary steps the next step would take (wcsph_tvf: its acoustic sub-steps), for the cost
   // estimate of a job before it runs.
   virtual double work_per_step() const { return 1.0; }
+  // A solid scheme's deformation gradient F of each particle at the current positions (in the
+  // particle order; coupling/fsi.hpp turns the wall normals with it); nullptr: not a solid.
+  virtual const std::vector<Mat<D>>* deformation_gradient() const { return nullptr; }
 };
 
 // A scheme's registry entry: its parameters and how it is made for a 2D or 3D flow.

@@ -257,6 +257,52 @@ TEST(Fsi, CouplingStepSubStepsTheSolidAndAveragesItsVelocity) {
     EXPECT_EQ(fe[i], Vec2(0.0, -2e-4));
 }
 
+// The images' wall normals turn with the solid (follow_normals): after a coupling step on a free
+// block mapped affinely, x = A r0 with A a rotation by 0.3 times a shear of 0.2 (at rest, so one
+// tiny solid step leaves the map in place), every image's normal is A^-T n0 / |A^-T n0| (the
+// corrected F of an affine map is A exactly). The normal of a surface under F is not F n0:
+// for the shear the two differ by 0.2.
+TEST(Fsi, ImageNormalsTurnWithTheSolidsDeformationGradient) {
+  const double h = 0.01;
+  Particles<2> solid, fluid;
+  for_each_lattice_point<2>({0, 0}, {12, 6}, h, [&](const Vec2& x, const std::array<int, 2>&) {
+    solid.add(x, 10.0 * h * h, 10.0, Kind::Solid);
+  });
+  fluid.add(Vec2(1.0, 1.0), h * h, 1.0); // one fluid particle, far away
+  fsi::SolidFluidCoupling<2> cp;
+  cp.add_images(fluid, solid, 1.0, h);
+  Flow<2> ff, sf;
+  ff.normal = fluid.add_vector("normal");
+  auto& n = fluid.vector(ff.normal);
+  for (std::size_t k = 1; k < fluid.size(); ++k) // two reference normals, alternating
+    n[k] = k % 2 ? Vec2(1.0, 0.0) : Vec2(0.0, 1.0);
+  const std::vector<Vec2> n0 = n;
+  cp.follow_normals(ff);
+  EXPECT_TRUE(ff.normals_follow_bodies);
+  sf.p = &solid, sf.rho0 = 10.0, sf.dx = h, sf.youngs_modulus = 1.4e3, sf.poisson_ratio = 0.4;
+  cp.attach(ff, sf);
+  auto s = make_scheme<2>(case_defaults("cantilever", "elastic_solid"), sf, "elastic_solid");
+  s->init();
+  cp.start(*s);
+  Mat<2> A, shear;
+  const double c = std::cos(0.3), sn = std::sin(0.3);
+  A << c, -sn, sn, c;
+  shear << 1.0, 0.2, 0.0, 1.0;
+  A = A * shear;
+  for (auto& x : solid.r)
+    x = A * x;
+  ff.body_motion(fluid, 0.0, 1e-3 * s->stable_dt());
+  const Mat<2> AinvT = A.inverse().transpose();
+  double err = 0.0, err_Fn = 0.0;
+  for (std::size_t k = 1; k < fluid.size(); ++k) {
+    err = std::max(err, (n[k] - (AinvT * n0[k]).normalized()).norm());
+    err_Fn = std::max(err_Fn, ((A * n0[k]).normalized() - (AinvT * n0[k]).normalized()).norm());
+  }
+  EXPECT_LT(err, 1e-9);
+  EXPECT_GT(err_Fn, 0.1);        // the test tells F^-T n0 from F n0
+  EXPECT_EQ(n[0], Vec2::Zero()); // the fluid particle has no normal
+}
+
 // Case fsi_beam, coarse (2 particles across the beam, D / dx = 10) and short (t = 0.3 of a 0.5
 // ramp): the coupled run against the same run with the beam held rigid. Measured once (one thread,
 // deterministic): C_D at t_end 4.382 (coupled) and 4.327 (rigid); the tip moved by

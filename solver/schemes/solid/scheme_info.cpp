@@ -87,6 +87,7 @@ public:
     res.add("c_p", s_.c_p());
   }
   long work_steps() const override { return s_.steps(); }
+  const std::vector<Mat<D>>* deformation_gradient() const override { return &s_.F(); }
 
 private:
   Options o_;

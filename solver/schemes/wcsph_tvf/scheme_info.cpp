@@ -153,9 +153,9 @@ private:
       if (flow.normal < 0)
         throw std::invalid_argument("wcsph_tvf: wall_dissipation = normal needs the case's wall "
                                     "normals (this case sets none)");
-      if (flow.body_motion)
-        throw std::invalid_argument("wcsph_tvf: wall_dissipation = normal: the wall normals of "
-                                    "moving bodies are not updated (use pair)");
+      if (flow.body_motion && !flow.normals_follow_bodies)
+        throw std::invalid_argument("wcsph_tvf: wall_dissipation = normal: the case does not turn "
+                                    "the wall normals of its moving bodies (use pair)");
     }
     for (auto& k : p.kind)
       if (k == Kind::Body)
