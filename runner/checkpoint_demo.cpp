@@ -50,7 +50,8 @@ RunResult run_checkpoint_demo(const Params& prm, const RunContext& ctx) {
   accelerations(x, alpha, a);
   const double e0 = energy(x, v, alpha);
 
-  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
+  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
+                      ctx.fingerprint.empty() ? solver_fingerprint() : ctx.fingerprint);
   RunResult res;
   if (auto s = ck.load({"x", "v", "a"})) {
     step = s->step;

@@ -97,6 +97,12 @@ std::int64_t study_id(Store& store, const std::string& name) {
                            (names.empty() ? "" : "; studies: " + quoted_list(names)));
 }
 
+// This build's solver fingerprint of a recorded study's case (stale results).
+std::string study_fingerprint(Store& store, const std::string& name) {
+  const auto st = store.find_study(name);
+  return solver_fingerprint(st ? st->case_name : std::string());
+}
+
 // The study's tiers a job belongs to, ';'-separated (export's and publish's `tier` column).
 std::string joined_tiers(const StudyJob& j) {
   std::string tiers;
@@ -153,7 +159,7 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
   std::map<std::pair<std::string, std::string>, std::map<JobState, std::int64_t>> table;
   std::map<std::pair<std::string, std::string>, std::int64_t> stale;
   std::int64_t stale_total = 0;
-  for (const StateCount& c : store.state_table(sid, solver_fingerprint())) {
+  for (const StateCount& c : store.state_table(sid, solver_fingerprint)) {
     table[{c.study, c.tier}][c.state] = c.count;
     stale[{c.study, c.tier}] += c.stale;
     stale_total += c.stale;
@@ -186,7 +192,7 @@ int cmd_status(const std::filesystem::path& db_path, const std::string& study, s
   }
   if (stale_total > 0)
     out << "\nstale: " << stale_total << " finished job(s) were computed by other solver code "
-        << "than this build's (fingerprint " << solver_fingerprint() << "); their results are "
+        << "than this build's for their case; their results are "
         << "kept and shown, `runner STUDY.toml --rerun-stale` recomputes them\n";
 
   bool header = false;
@@ -515,7 +521,8 @@ int cmd_table(const std::filesystem::path& db_path, const TableOptions& t, std::
   // Stale results (made by other solver code) are shown, not hidden: a note under the table
   // (not in CSV, which stays a plain grid; `runner export` has a stale column).
   std::string stale_note = cell_note;
-  if (std::size_t n = store.stale_in_study(sid, solver_fingerprint(), std::nullopt, true))
+  if (std::size_t n =
+          store.stale_in_study(sid, study_fingerprint(store, t.study), std::nullopt, true))
     stale_note += "note: " + std::to_string(n) + " of the study's finished jobs are " +
                   "stale (computed by other solver code than this build's; --rerun-stale)\n";
   if (t.format == "csv") {
@@ -575,7 +582,8 @@ int cmd_export(const std::filesystem::path& db_path, const std::string& study,
   };
   std::vector<Row> rows;
   std::map<std::int64_t, std::size_t> index;
-  for (const StudyJob& j : store.study_jobs(sid, std::nullopt, true, solver_fingerprint())) {
+  for (const StudyJob& j :
+       store.study_jobs(sid, std::nullopt, true, study_fingerprint(store, study))) {
     index[j.id] = rows.size();
     rows.push_back({j.key,
                     to_string(j.state),
@@ -702,7 +710,8 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   std::vector<std::string> new_order;
   std::size_t stale = 0;
   std::set<std::string> retired; // jobs of earlier versions of the study file only
-  for (const StudyJob& j : store.study_jobs(sid, std::nullopt, false, solver_fingerprint())) {
+  for (const StudyJob& j :
+       store.study_jobs(sid, std::nullopt, false, study_fingerprint(store, study))) {
     if (j.tiers.empty()) { // in no tier of the current expansion: export and status hide it too
       retired.insert(j.key);
       continue;

@@ -418,7 +418,7 @@ SweepStart start_sweep(Store& store, const Study& study, const Selection& sel,
     r.ingested = ingest_slurm(store, out);
   JobStream jobs = sel.jobs();
   r.sync = store.register_expansion(study, sel.label, jobs, o.retry_failed, o.max_attempts,
-                                    o.rerun_stale, solver_fingerprint());
+                                    o.rerun_stale, solver_fingerprint(study.case_name));
   for (const auto& row : r.sync.jobs)
     if (row.state == JobState::pending)
       r.todo.push_back(&row);
@@ -582,7 +582,7 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
   SignalGuard guard;
   const std::string host = host_name();
   const int pid = static_cast<int>(getpid());
-  const std::string fingerprint = solver_fingerprint();
+  const std::string fingerprint = solver_fingerprint(study.case_name);
   Store store = Store::open_write(opts.db_path, opts.allow_network_fs);
   const std::string db_name = opts.db_path.string();
   // Any SQLite error from here on names the database (disk full, I/O error, locked too long).

@@ -121,7 +121,7 @@ std::string job_record_json(const JobRecord& r) {
             {"code_version", code_version()},
             {"compiler", compiler_id()},
             {"build_type", SPH_BUILD_TYPE},
-            {"solver_fingerprint", solver_fingerprint()},
+            {"solver_fingerprint", solver_fingerprint(r.case_name)},
             {"attempt", r.attempt},
             {"host", r.host},
             {"state", r.state},

@@ -108,6 +108,7 @@ int run_job_files(const std::filesystem::path& spec_path, const std::filesystem:
     ctx.checkpoint_dir = spec.output_dir;
     ctx.checkpoint_every_steps = spec.checkpoint_every_steps;
     ctx.checkpoint_every_s = spec.checkpoint_every_s;
+    ctx.fingerprint = case_fingerprint(spec.case_name);
     auto last = std::chrono::steady_clock::time_point{};
     if (!spec.progress_file.empty())
       ctx.progress = [&](double fraction) {

@@ -1,10 +1,9 @@
 // Provenance strings recorded with every attempt.
 #include "provenance.hpp"
 
-#include "core/fingerprint.hpp"
+#include "cases/case.hpp" // case_fingerprint
 
 #include "git_version.hpp" // generated at build time by cmake/git_version.cmake
-
 
 #include <unistd.h>
 
@@ -24,8 +23,8 @@ std::string compiler_id() {
 #endif
 }
 
-std::string solver_fingerprint() {
-  return sph::solver_fingerprint();
+std::string solver_fingerprint(const std::string& case_name) {
+  return sph::case_fingerprint(case_name);
 }
 
 std::string host_name() {

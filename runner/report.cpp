@@ -659,7 +659,8 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
   // Jobs of the study (or tier) in expansion order, with their metrics.
   std::vector<Job> jobs;
   {
-    for (const StudyJob& s : store.study_jobs(sid, tier, false, solver_fingerprint())) {
+    for (const StudyJob& s :
+         store.study_jobs(sid, tier, false, solver_fingerprint(study.case_name))) {
       Job j;
       j.id = s.id;
       j.key = s.key;
@@ -695,11 +696,11 @@ int cmd_report(const ReportOptions& o, std::ostream& out) {
 
   std::vector<std::string> notices;
   // Stale results (made by other solver code than this build's) are shown, and said so.
-  if (std::size_t n = store.stale_in_study(sid, solver_fingerprint(), tier, false))
+  if (std::size_t n = store.stale_in_study(sid, solver_fingerprint(study.case_name), tier, false))
     notices.push_back(std::to_string(n) +
                       " of the jobs shown are stale: their results were computed by other "
                       "solver code than this build's (solver fingerprint " +
-                      solver_fingerprint() +
+                      solver_fingerprint(study.case_name) +
                       "). Run the study with --rerun-stale to recompute them.");
   if (definition_changed)
     notices.push_back("The study file changed since the study was last run (its SHA-256 differs "

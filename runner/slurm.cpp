@@ -117,7 +117,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   Store store = Store::open_write(opts.db_path);
   const std::string host = host_name();
   const int pid = static_cast<int>(getpid());
-  const std::string fingerprint = solver_fingerprint();
+  const std::string fingerprint = solver_fingerprint(study.case_name);
   SweepStart front = start_sweep(store, study, sel,
                                  {opts.retry_failed, opts.max_attempts, opts.rerun_stale, 30}, out);
   if (const auto& ing = front.ingested; ing && (ing->ingested || ing->lost))
@@ -171,7 +171,7 @@ int cmd_submit(const Study& study, const SubmitOptions& opts, std::ostream& out,
   for (const JobRow* row : todo)
     ids.push_back(row->id);
   AttemptStart start{host,          pid,        opts.threads_per_job, code_version(),
-                     compiler_id(), unix_now(), solver_fingerprint(), std::nullopt};
+                     compiler_id(), unix_now(), fingerprint,          std::nullopt};
   JobCursor cursor(sel.jobs()); // the to-do list is in expansion order
   auto on_marked = [&](std::size_t k, int attempt) {
     const JobSpec& job = cursor.at(todo[k]->ordinal);

@@ -846,11 +846,12 @@ std::optional<double> Store::mean_wall_s(std::int64_t study_id, const std::strin
 }
 
 std::optional<StudyInfo> Store::find_study(const std::string& name) {
-  Stmt q = db_.prepare("SELECT id, file, definition_sha256, description FROM studies WHERE name=?");
+  Stmt q = db_.prepare(
+      "SELECT id, file, definition_sha256, description, case_name FROM studies WHERE name=?");
   q.bind(1, name);
   if (!q.step())
     return std::nullopt;
-  return StudyInfo{q.integer(0), q.text(1), q.text(2), q.text(3)};
+  return StudyInfo{q.integer(0), q.text(1), q.text(2), q.text(3), q.text(4)};
 }
 
 std::vector<std::string> Store::study_names() {
@@ -861,18 +862,29 @@ std::vector<std::string> Store::study_names() {
   return names;
 }
 
-std::vector<StateCount> Store::state_table(std::optional<std::int64_t> study_id,
-                                           const std::string& fingerprint) {
+std::vector<StateCount>
+Store::state_table(std::optional<std::int64_t> study_id,
+                   const std::function<std::string(const std::string&)>& fingerprint_of_case) {
   std::vector<StateCount> out;
+  // This build's fingerprint of each study's case (they differ by case: core/fingerprint.hpp).
+  std::vector<std::string> cases;
+  for (Stmt c = db_.prepare("SELECT DISTINCT case_name FROM studies"); c.step();)
+    cases.push_back(c.text(0));
+  std::string fp = "(CASE s.case_name";
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    fp += " WHEN ?" + std::to_string(2 + 2 * k) + " THEN ?" + std::to_string(3 + 2 * k);
+  fp += " END)";
   Stmt q = db_.prepare("SELECT s.name, sj.tier, j.state, count(*), sum(" +
-                       stale_sql(db_, "j.id", "j.state", "?1") +
+                       stale_sql(db_, "j.id", "j.state", fp) +
                        ") FROM studies s JOIN study_jobs "
                        "sj ON sj.study_id=s.id AND sj.current JOIN jobs j ON j.id=sj.job_id" +
-                       (study_id ? " WHERE s.id=?2" : "") +
+                       (study_id ? " WHERE s.id=?1" : " WHERE ?1 IS NULL") +
                        " GROUP BY s.name, sj.tier, j.state ORDER BY s.name, sj.tier");
-  q.bind(1, fingerprint);
   if (study_id)
-    q.bind(2, *study_id);
+    q.bind(1, *study_id);
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    q.bind(static_cast<int>(2 + 2 * k), cases[k])
+        .bind(static_cast<int>(3 + 2 * k), fingerprint_of_case(cases[k]));
   while (q.step())
     out.push_back({q.text(0), q.text(1), job_state_from(q.text(2)), q.integer(3), q.integer(4)});
   return out;

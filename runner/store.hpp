@@ -133,7 +133,7 @@ struct StaleJob {
 // Rows the read commands (status, table, export, report) and Slurm ingestion get from the store.
 struct StudyInfo {
   std::int64_t id = 0;
-  std::string file, definition_sha256, description;
+  std::string file, definition_sha256, description, case_name;
 };
 
 struct StateCount { // runner status: one (study, tier, state) group
@@ -343,9 +343,10 @@ public:
   std::optional<StudyInfo> find_study(const std::string& name);
   std::vector<std::string> study_names();
   // Counts per (study, tier, state) of the current expansions (one study, or all), with how many
-  // are stale against `fingerprint`.
-  std::vector<StateCount> state_table(std::optional<std::int64_t> study_id,
-                                      const std::string& fingerprint);
+  // are stale against `fingerprint_of_case` of their study's case.
+  std::vector<StateCount>
+  state_table(std::optional<std::int64_t> study_id,
+              const std::function<std::string(const std::string&)>& fingerprint_of_case);
   std::vector<RunningJob> running_jobs(std::optional<std::int64_t> study_id);
   std::vector<SubmittedArray> submitted_arrays(std::optional<std::int64_t> study_id);
   // The last `limit` failed, timed-out, abandoned or interrupted attempts with an error text.

@@ -8,6 +8,7 @@
 //   namespace { const Registrar<CaseInfo> reg(make_my_case()); }
 #pragma once
 
+#include "core/fingerprint.hpp"
 #include "core/params.hpp"
 #include "core/registry.hpp"
 #include "core/run.hpp"
@@ -34,7 +35,8 @@ struct JobSize {
 
 struct CaseInfo {
   std::string name;
-  std::string description;          // one line, with the paper and section
+  std::string source;      // the file that registers the case (set by Registrar; its fingerprint)
+  std::string description; // one line, with the paper and section
   std::vector<std::string> schemes; // schemes this case runs with (empty: none; first = default)
   std::vector<ParamSpec> params;    // the case's own parameters (geometry, physics, diagnostics)
   std::function<RunResult(const Params&, const RunContext&)> run;
@@ -79,6 +81,12 @@ inline const std::vector<CaseInfo>& case_registry() {
 }
 inline const CaseInfo* find_case(const std::string& name) {
   return Registry<CaseInfo>::find(name);
+}
+// The solver fingerprint of a case's jobs (core/fingerprint.hpp): the solver without the other
+// cases' files; an unknown case gets the whole solver's.
+inline std::string case_fingerprint(const std::string& case_name) {
+  const CaseInfo* c = find_case(case_name);
+  return c ? source_fingerprint(c->source) : solver_fingerprint();
 }
 
 // Version of the numerics; enters every job key. Bump when a change alters results of existing

@@ -161,7 +161,8 @@ RunResult run_flow_case(FlowCase<D>& c, const Params& prm, const RunContext& ctx
   double n_max = static_cast<double>(p.size()); // the largest particle count (all kinds)
   std::string resumed;
 
-  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s);
+  io::Checkpointer ck(ctx.checkpoint_dir, ctx.checkpoint_every_steps, ctx.checkpoint_every_s,
+                      ctx.fingerprint.empty() ? solver_fingerprint() : ctx.fingerprint);
   {
     std::vector<std::string> names = io::particle_array_names(p);
     names.push_back("loop/costs");

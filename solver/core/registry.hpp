@@ -39,9 +39,16 @@ public:
   }
 };
 
+// An entry with a `source` member (CaseInfo) learns the file that registers it (its solver
+// fingerprint, core/fingerprint.hpp).
 template <class Entry>
 struct Registrar {
-  explicit Registrar(Entry e) { Registry<Entry>::add(std::move(e)); }
+  explicit Registrar(Entry e, const char* file = __builtin_FILE()) {
+    if constexpr (requires { e.source; })
+      if (e.source.empty())
+        e.source = file;
+    Registry<Entry>::add(std::move(e));
+  }
 };
 
 } // namespace sph

@@ -27,6 +27,9 @@ struct RunContext {
   std::int64_t checkpoint_every_steps = 0;
   double checkpoint_every_s = 0;
   int attempt = 1;
+  // The solver fingerprint the job's checkpoints carry (core/fingerprint.hpp; the runner gives
+  // its case's); empty: solver_fingerprint().
+  std::string fingerprint;
 
   bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
   void report(double fraction) const {

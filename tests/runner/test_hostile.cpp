@@ -606,6 +606,47 @@ TEST(Hostile, TheSolverFingerprintChangesWithSolverFilesOnly) {
   EXPECT_NE(fingerprint(), second);
 }
 
+// A case's fingerprint (SPH_CASE_FINGERPRINTS) covers the solver without the case files and its
+// own file: adding a case or editing another leaves it; a shared file, a helper under cases/ that
+// registers no case, or its own file change it.
+TEST(Hostile, ACasesFingerprintCoversTheSharedSolverAndItsOwnFileOnly) {
+  TempDir dir;
+  fs::path src = dir / "src";
+  fs::create_directories(src / "solver" / "cases");
+  write_text(src / "solver" / "shared.hpp", "int shared = 1;\n");
+  write_text(src / "solver" / "cases" / "helper.cpp", "int helper = 1;\n");
+  write_text(src / "solver" / "cases" / "a.cpp", "const Registrar<CaseInfo> a(make_a());\n");
+  write_text(src / "solver" / "cases" / "b.cpp", "const Registrar<CaseInfo> b(make_b());\n");
+  // The fingerprint of case file `name` ("" if not listed), or the whole solver's for "".
+  auto fingerprint = [&](const std::string& name) {
+    std::string cmd = std::string("'") + CMAKE_EXE + "' -DSRC='" + src.string() + "' -DOUT='" +
+                      (dir / "fp.hpp").string() + "' -P '" + SPH_SOURCE_DIR +
+                      "/cmake/solver_fingerprint.cmake'";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    const std::string text = read_file(dir / "fp.hpp");
+    const std::string at = name.empty() ? "SPH_SOLVER_FINGERPRINT \"" : "{\"" + name + "\", \"";
+    const auto k = text.find(at);
+    return k == std::string::npos ? std::string() : text.substr(k + at.size(), 16);
+  };
+  const std::string a0 = fingerprint("a.cpp"), b0 = fingerprint("b.cpp"), s0 = fingerprint("");
+  ASSERT_EQ(a0.size(), 16u);
+  ASSERT_EQ(b0.size(), 16u);
+  EXPECT_NE(a0, b0);
+  EXPECT_EQ(fingerprint("helper.cpp"), ""); // registers no case: shared
+  write_text(src / "solver" / "cases" / "c.cpp", "const Registrar<CaseInfo> c(make_c());\n");
+  EXPECT_EQ(fingerprint("a.cpp"), a0) << "adding a case changed another case's fingerprint";
+  EXPECT_EQ(fingerprint("c.cpp").size(), 16u);
+  EXPECT_NE(fingerprint(""), s0); // the whole solver's does change
+  write_text(src / "solver" / "cases" / "b.cpp", "const Registrar<CaseInfo> b(make_b2());\n");
+  EXPECT_EQ(fingerprint("a.cpp"), a0) << "editing case b changed case a's fingerprint";
+  EXPECT_NE(fingerprint("b.cpp"), b0);
+  write_text(src / "solver" / "cases" / "helper.cpp", "int helper = 2;\n");
+  const std::string a1 = fingerprint("a.cpp");
+  EXPECT_NE(a1, a0);
+  write_text(src / "solver" / "shared.hpp", "int shared = 2;\n");
+  EXPECT_NE(fingerprint("a.cpp"), a1);
+}
+
 // --- A parameter added at a neutral default keeps the keys of finished jobs ---------------------
 
 TEST(Hostile, AParameterAddedAtItsNeutralDefaultKeepsTheJobKeys) {
