@@ -4,6 +4,7 @@
 // could write, values that pass validation and fail every job, hostile study files, SIGHUP and
 // SIGPIPE, gnuplot strings, a killed report's temporary files, cosmetic messages; and stale
 // results (solver fingerprint) and parameters added at a neutral default.
+#include "cases/case.hpp"
 #include "e2e_helpers.hpp"
 #include "expand.hpp"
 #include "job_key.hpp"
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <set>
 #include <sys/file.h>
 #include <sys/mount.h>
 #include <sys/resource.h>
@@ -645,6 +647,22 @@ TEST(Hostile, ACasesFingerprintCoversTheSharedSolverAndItsOwnFileOnly) {
   EXPECT_NE(a1, a0);
   write_text(src / "solver" / "shared.hpp", "int shared = 2;\n");
   EXPECT_NE(fingerprint("a.cpp"), a1);
+}
+
+// In this build every case of the solver finds its own fingerprint (its registering file's name
+// matches the generated table), rather than falling back silently to the whole solver's.
+TEST(Hostile, EveryCaseOfTheSolverHasItsOwnFingerprint) {
+  if (std::getenv("SPH_RUNNER_SOLVER_FINGERPRINT"))
+    GTEST_SKIP() << "fingerprint overridden";
+  std::set<std::string> seen;
+  for (const CaseInfo& c : case_registry()) {
+    if (c.test_fixture) // checkpoint_demo lives in runner/: the whole solver's
+      continue;
+    const std::string fp = case_fingerprint(c.name);
+    EXPECT_NE(fp, solver_fingerprint()) << c.name << " (" << c.source << ")";
+    EXPECT_TRUE(seen.insert(fp).second) << c.name << " shares a fingerprint";
+  }
+  EXPECT_GE(seen.size(), 10u);
 }
 
 // --- A parameter added at a neutral default keeps the keys of finished jobs ---------------------
