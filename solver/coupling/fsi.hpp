@@ -70,24 +70,14 @@ public:
   }
 
   // The images' wall normals (the fluid flow's `normal` field, set by the case in the reference
-  // configuration) turn with the solid at every step (see the header). Call after add_images and
-  // after the case filled the normals; keeps n0 in the solid set (field fsi/normal0, so
-  // checkpoints carry it).
+  // configuration) turn with the solid at every step (see the header). Call after add_images;
+  // start() keeps the images' normals as n0 in the solid set (field fsi/normal0, so checkpoints
+  // carry it).
   void follow_normals(Flow<D>& fluid_flow) {
-    if (fluid_flow.normal < 0 || !fluid_ || !solid_)
+    if (fluid_flow.normal < 0 || !solid_)
       throw std::logic_error("fsi: follow_normals needs the images and the fluid's normals");
     normal_ = fluid_flow.normal;
     normal0_ = solid_->add_vector("fsi/normal0");
-    auto& n0 = solid_->vector(normal0_);
-    std::vector<long> at(solid_->size(), -1); // solid id -> index (the solid is not sorted yet)
-    for (std::size_t i = 0; i < solid_->size(); ++i)
-      at[static_cast<std::size_t>(solid_->id[i])] = static_cast<long>(i);
-    const auto& n = fluid_->vector(normal_);
-    for (std::size_t k = 0; k < fluid_->size(); ++k) {
-      const double id = fluid_->scalar(id_)[k];
-      if (id > 0.5)
-        n0[static_cast<std::size_t>(at[static_cast<std::size_t>(id) - 1])] = n[k];
-    }
     fluid_flow.normals_follow_bodies = true;
   }
 
@@ -110,6 +100,13 @@ public:
       if (id < 0 || static_cast<std::size_t>(id) >= index_.size())
         throw std::logic_error("fsi: solid particle ids must be 0..N-1");
       index_[static_cast<std::size_t>(id)] = static_cast<long>(i);
+    }
+    if (normal_ >= 0) { // n0: the images' normals as the case set them (the first step turns them)
+      auto& n0 = solid_->vector(normal0_);
+      const auto& n = fluid_->vector(normal_);
+      for (std::size_t k = 0; k < fluid_->size(); ++k)
+        if (const long i = solid_index(*fluid_, k); i >= 0)
+          n0[static_cast<std::size_t>(i)] = n[k];
     }
   }
 
@@ -156,6 +153,12 @@ public:
     }
     auto& vw = fluid.vector(v_wall_);
     auto& aw = fluid.vector(a_wall_);
+    // Turned normals (follow_normals): n_k = F_i^-T n0_i / |F_i^-T n0_i|.
+    const std::vector<Mat<D>>* F = normal_ >= 0 ? scheme_->deformation_gradient() : nullptr;
+    if (normal_ >= 0 && !F)
+      throw std::logic_error("fsi: the solid scheme has no deformation gradient");
+    auto* n = F ? &fluid.vector(normal_) : nullptr;
+    const auto* n0 = F ? &s.vector(normal0_) : nullptr;
     for (std::size_t k = 0; k < fluid.size(); ++k) {
       const long i = solid_index(fluid, k);
       if (i < 0)
@@ -164,28 +167,12 @@ public:
       fluid.r[k] = s.r[u];
       fluid.v[k] = vw[k] = v_ave[u];
       aw[k] = a_ave_[u];
+      if (F)
+        (*n)[k] = ((*F)[u].inverse().transpose() * (*n0)[u]).normalized();
     }
-    if (normal_ >= 0)
-      turn_normals(fluid);
   }
 
 private:
-  // n_k = F_i^-T n0_i / |F_i^-T n0_i| for every image k of solid particle i.
-  void turn_normals(Particles<D>& fluid) const {
-    const std::vector<Mat<D>>* F = scheme_->deformation_gradient();
-    if (!F)
-      throw std::logic_error("fsi: the solid scheme has no deformation gradient");
-    const auto& n0 = solid_->vector(normal0_);
-    auto& n = fluid.vector(normal_);
-    for (std::size_t k = 0; k < fluid.size(); ++k) {
-      const long i = solid_index(fluid, k);
-      if (i < 0)
-        continue;
-      const auto u = static_cast<std::size_t>(i);
-      n[k] = ((*F)[u].inverse().transpose() * n0[u]).normalized();
-    }
-  }
-
   Particles<D>* fluid_ = nullptr;
   Particles<D>* solid_ = nullptr;
   FlowScheme<D>* scheme_ = nullptr;
