@@ -103,6 +103,7 @@ public:
   }
   double stable_dt() const override { return flow_.dt; }
   void measure_next_step(bool on) override { s_->set_measure_divergence(on); }
+  void set_body_acceleration(const Vec<D>& g) override { s_->set_body_acceleration(g); }
   std::vector<std::pair<std::string, double>> probes() const override {
     return {{"div_max", s_->div_max()}, {"ppe_iters", static_cast<double>(s_->last_iterations())}};
   }

@@ -7,10 +7,11 @@
 //      operators/wall_velocity.hpp):
 //      u_w = 2 u_prescribed - sum_f u_f W_wf / sum_f W_wf, the fluid velocity mirrored about the
 //      wall's prescribed velocity (lid: U0, other walls and bodies: 0);
-//   3. prediction, eqs. (7)-(8): u_* = u_t + nu lap u_t dt, lap u by VISC-01..04 (eqs. 15-20,
-//      operators/viscous_laplacian.hpp; no body force in the cavity cases), the walls carrying
-//      their mirror velocity (option visc_wall_velocity = mirror) or their prescribed one
-//      (prescribed);
+//   3. prediction, eqs. (7)-(8): u_* = u_t + (nu lap u_t + g) dt, lap u by VISC-01..04 (eqs.
+//      15-20, operators/viscous_laplacian.hpp), g a uniform body acceleration
+//      (set_body_acceleration; zero in the cavity cases, a channel's drive in poiseuille), the
+//      walls carrying their mirror velocity (option visc_wall_velocity = mirror) or their
+//      prescribed one (prescribed);
 //   4. predicted density at r_* = r_t + u_* dt (eq. 9), by summation over the cached pairs with
 //      r_ij* = r_ij + dt (u*_i - u*_j) (walls do not move);
 //   5. PPE, eq. (13) with the Laplacian of eq. (14), assembled as a sparse matrix and solved
@@ -25,7 +26,8 @@
 //      (with the printed (alpha - 1) the projection would double the divergence instead of
 //      removing it). Both sides are divided by rho0 as eq. (14) is grad.(grad P / rho).
 //      Wall and body rows: P_w = sum_f P_f W_wf / sum_f W_wf (Adami et al. 2012 eq. 27 without
-//      body force and wall acceleration), a discrete homogeneous Neumann condition, solved
+//      body force and wall acceleration: right for a body force along the walls, as a channel's
+//      drive, not for gravity against a wall), a discrete homogeneous Neumann condition, solved
 //      implicitly with the fluid rows; the paper uses SFDI instead. The pure-Neumann problem
 //      fixes P only up to a constant: the fluid diagonal is raised by a relative 1e-6
 //      (regularisation), which selects one level and spreads the source's incompatibility evenly
@@ -252,7 +254,7 @@ public:
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < N; ++i) {
       if (fluid(i)) {
-        ustar_[i] = p_.v[i] + (nu_ * dt_) * lapv_[i];
+        ustar_[i] = p_.v[i] + (nu_ * dt_) * lapv_[i] + dt_ * g_; // g = 0: bit for bit as before
         umove_[i] = ustar_[i];
       } else {
         ustar_[i] = uwall[i];
@@ -370,6 +372,11 @@ public:
     interact(nl_, wv, [this](std::size_t i) { return !isph_ops::is_fluid(p_.kind[i]); });
   }
 
+  // A uniform body acceleration g on the fluid from the next step on (stage 3; zero until set).
+  void set_body_acceleration(const Vec<D>& g) {
+    g_ = g;
+  }
+
   void set_measure_divergence(bool on) {
     measure_div_ = on;
   }
@@ -436,6 +443,7 @@ private:
   std::vector<double> trb_, rho_star_, div_, rhs_, x_;
   std::vector<Vec<D>> lapv_, ustar_, umove_, unew_, dr_, vvisc_;
   std::vector<Mat<D>> gradu_;
+  Vec<D> g_ = Vec<D>::Zero(); // body acceleration (stage 3)
   bool measure_div_ = false;
   double div_max_ = 0.0, div_rms_ = 0.0;
   Vec<D> div_argmax_ = Vec<D>::Zero();
