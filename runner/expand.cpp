@@ -307,9 +307,10 @@ struct JobStream::Impl {
   std::size_t next_case = 0;
   bool done = false;
   ExpansionSummary sum;
-  std::optional<Params> first;     // the first job's parameters
-  std::vector<bool> first_varies;  // which of them differ in a later job (in the map's order)
-  std::set<std::string> only_some; // parameters the first job does not have
+  // Parameters that take different values between the jobs that have them (a scheme's parameters
+  // are absent from the other schemes' jobs: that alone is told by `scheme`, not a variation).
+  std::map<std::string, ParamValue> seen; // each parameter's value in the first job that has it
+  std::set<std::string> differs;
 
   Impl(const Study& s, const std::string& tier_name, std::size_t max_jobs);
   const std::vector<ParamSpec>& specs_of(const std::string& scheme);
@@ -462,27 +463,10 @@ bool JobStream::Impl::keep(Params p, JobSpec& job) {
     ++sum.duplicates;
     return false;
   }
-  // Parameters that differ between jobs (or exist only for some): both maps are sorted by name,
-  // walked together.
-  if (!first) {
-    first = j.params;
-    first_varies.assign(first->size(), false);
-  } else {
-    auto a = first->begin();
-    auto b = j.params.begin();
-    for (std::size_t pos = 0; a != first->end() || b != j.params.end();) {
-      const int c = a == first->end() ? 1 : b == j.params.end() ? -1 : a->first.compare(b->first);
-      if (c < 0) {
-        first_varies[pos++] = true; // not in this job
-        ++a;
-      } else if (c > 0) {
-        only_some.insert((b++)->first); // not in the first job
-      } else {
-        if (!first_varies[pos] && !(a->second == b->second))
-          first_varies[pos] = true;
-        ++pos, ++a, ++b;
-      }
-    }
+  for (const auto& [name, value] : j.params) {
+    const auto [it, added] = seen.emplace(name, value);
+    if (!added && !(it->second == value))
+      differs.insert(name);
   }
   ++sum.size;
   job = std::move(j);
@@ -527,13 +511,7 @@ bool JobStream::Impl::next(JobSpec& job) {
   if (!done) {
     done = true;
     diag.throw_if_any();
-    std::set<std::string> varying = only_some;
-    if (first) {
-      std::size_t pos = 0;
-      for (const auto& [name, value] : *first)
-        if (first_varies[pos++])
-          varying.insert(name);
-    }
+    const std::set<std::string>& varying = differs;
     for (const auto& sp : study.specs) // in spec order
       if (varying.count(sp.name))
         sum.varying.push_back(sp.name);

@@ -30,7 +30,7 @@ struct ExpansionSummary {
   std::size_t combinations = 0;     // size of the product before exclusions
   std::size_t excluded = 0;         // dropped by exclude
   std::size_t duplicates = 0;       // collapsed because their key was already in the list
-  std::vector<std::string> varying; // parameters whose value differs between jobs
+  std::vector<std::string> varying; // parameters whose value differs between the jobs that have them
 };
 
 // The whole expansion in memory (small studies, tests; `run`, `submit` and `--dry-run` stream).

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 using namespace sph::runner;
 using namespace sph::runner::test;
 
@@ -169,4 +171,17 @@ TEST(Expand, LargeStudyExpandsQuickly) {
   double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(e.jobs.size(), 20000u);
   EXPECT_LT(s, 5.0);
+}
+
+// Sweeping the scheme: a scheme's parameters are absent from the other scheme's jobs, which does
+// not make them vary (the folder aliases and job labels list what varies: a name of every
+// scheme parameter exceeded the file-name limit). Parameters both schemes have with different
+// values, and the scheme itself, do vary.
+TEST(Expand, AParameterOnlySomeSchemesHaveVariesOnlyWhenItsValuesDiffer) {
+  auto e = expand(parse_study("[study]\nname = \"s\"\ncase = \"lid_driven_cavity\"\n[sweep]\n"
+                              "scheme = [\"isph\", \"wcsph_tvf\"]\ndx = [0.05, 0.1]\n",
+                              "s.toml"));
+  ASSERT_EQ(e.jobs.size(), 4u);
+  std::set<std::string> v(e.varying.begin(), e.varying.end());
+  EXPECT_EQ(v, (std::set<std::string>{"dx", "scheme", "kernel", "h_over_dx", "shift_velocity"}));
 }
