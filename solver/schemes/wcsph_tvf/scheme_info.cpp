@@ -70,7 +70,11 @@ const ParamTable<Options>& table() {
           .real("tvf_kappa", &Options::tvf_kappa,
                 "slope kappa of the TVF limiter min(kappa h^2 |g|^2, 1) (eq. 15)", {0.0, 1e6})
           .real("pb_factor", &Options::pb_factor,
-                "tvf = original: background pressure p_b = pb_factor rho0 c0^2", {0.0, 100.0});
+                "tvf = original: background pressure p_b = pb_factor rho0 c0^2", {0.0, 100.0})
+          .real("viscous_eps", &Options::viscous_eps,
+                "eps of the viscous force's (v_i - v_j) / (r_ij + eps h) (SPHinXsys: 0.01; on a "
+                "lattice it lowers the viscosity by about 1 % per 0.01)",
+                {0.0, 1.0});
   return t;
 }
 
@@ -212,7 +216,7 @@ SchemeInfo make_wcsph_tvf_scheme() {
   for (auto& spec : s.params)
     if (spec.name == "shift_velocity" || spec.name == "riemann_density" ||
         spec.name == "wall_extrapolation" || spec.name == "substep_pairs" ||
-        spec.name == "wall_dissipation")
+        spec.name == "wall_dissipation" || spec.name == "viscous_eps")
       spec.neutral_default = true; // added later: the jobs without it keep their keys
   s.free_stream = true;
   s.moving_bodies = true;
