@@ -18,7 +18,8 @@ A result table is marked by a comment on the line before it:
 - A header cell that ends in `<!-- METRIC -->` (optionally `METRIC*FACTOR`) names the metric of
   its column; columns without one (parameters, labels, references) are not checked.
 - A row whose first cell holds `<!-- job: KEY=VALUE ... -->` is a run of ours: the KEY=VALUE pairs
-  (parameters of the job's canonical JSON, or `tier=NAME`, `study=NAME`) must select exactly one
+  (parameters of the job's canonical JSON, or `tier=NAME`, `study=NAME`; `!KEY`: jobs whose
+  canonical JSON lacks KEY, a parameter left at its neutral default) must select exactly one
   job of the table's studies, and each of its cells in a metric column must equal that job's
   metric to the digits quoted: the first number of the cell (bold and backticks stripped; what
   follows it, a unit or a reference in parentheses, is not read) is the value rounded, so
@@ -82,6 +83,8 @@ def select(jobs, selector):
                 ok = v in job["tiers"]
             elif k == "study":
                 ok = job["study"] == v
+            elif k.startswith("!"):  # !KEY: the job's identity lacks KEY (at its neutral default)
+                ok = k[1:] not in job["params"]
             else:
                 ok = k in job["params"] and value_matches(v, job["params"][k])
             if not ok:
@@ -169,7 +172,7 @@ def check_page(root, page, cache):
             if not m:
                 continue
             checked_rows += 1
-            selector = dict(kv.split("=", 1) for kv in m.group(1).split())
+            selector = dict(kv.split("=", 1) if "=" in kv else (kv, "") for kv in m.group(1).split())
             try:
                 jobs = {}
                 for s in studies:
@@ -240,7 +243,14 @@ def self_test():
              (good, csv_text.replace("study,job", "study,key"), False),  # header
              (good, csv_text, True, "docs/results.md"),  # the same table on a docs page
              (good.replace("9.19e-03", "9.20e-03"), csv_text, False, "docs/results.md"),
-             (good.replace("12 ms", "13 ms"), csv_text, False, "docs/fam/page.md")]  # nested page
+             (good.replace("12 ms", "13 ms"), csv_text, False, "docs/fam/page.md"),  # nested page
+             # !KEY selects the job without KEY (k3) apart from the one with it (k1)
+             (good.replace("kind=a -->", "!kind -->").replace("**9.19e-03**", "0.25"),
+              csv_text + 'demo,k3,quick,v,"{""n_side"":20}",err,0.25\n'
+                         'demo,k3,quick,v,"{""n_side"":20}",cpu_s,0.012\n', True),
+             (good.replace("kind=a -->", "!kind -->"),  # k3's err is 0.25, not k1's 9.19e-3
+              csv_text + 'demo,k3,quick,v,"{""n_side"":20}",err,0.25\n'
+                         'demo,k3,quick,v,"{""n_side"":20}",cpu_s,0.012\n', False)]
     ok = True
     for n, (readme, results, expect, *where) in enumerate(cases):
         with tempfile.TemporaryDirectory() as d:
