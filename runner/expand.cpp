@@ -511,9 +511,8 @@ bool JobStream::Impl::next(JobSpec& job) {
   if (!done) {
     done = true;
     diag.throw_if_any();
-    const std::set<std::string>& varying = differs;
     for (const auto& sp : study.specs) // in spec order
-      if (varying.count(sp.name))
+      if (differs.count(sp.name))
         sum.varying.push_back(sp.name);
   }
   return false;
