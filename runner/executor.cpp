@@ -79,6 +79,9 @@ struct Task {
   fs::path alias;   // by-params/ link to the folder (alias_of)
   std::chrono::steady_clock::time_point started;
   std::optional<double> predicted_s; // the cost model's wall seconds (ETA)
+  // The first simulated-time fraction the attempt reported (> 0 when it resumed from a
+  // checkpoint): the ETA counts the progress made since then.
+  std::optional<double> first_fraction;
 };
 
 // Rewrites params.json at the end of an attempt; a failure to write it is a warning (the
@@ -892,9 +895,14 @@ int run_study(const Study& study, const RunOptions& opts, std::ostream& out, std
           // Each running job's simulated-time fraction, as its worker last wrote it (<= 1/s).
           std::vector<ProgressJob> fr;
           const auto now = std::chrono::steady_clock::now();
-          for (const auto& [id, t] : running)
-            fr.push_back({t.running_label, read_progress(t.progress).value_or(0.0),
-                          std::chrono::duration<double>(now - t.started).count(), t.predicted_s});
+          for (auto& [id, t] : running) {
+            const std::optional<double> f = read_progress(t.progress);
+            if (f && !t.first_fraction)
+              t.first_fraction = *f;
+            fr.push_back({t.running_label, f.value_or(0.0),
+                          std::chrono::duration<double>(now - t.started).count(), t.predicted_s,
+                          t.first_fraction.value_or(0.0)});
+          }
           progress.set_running_jobs(std::move(fr));
         }
         progress.tick();

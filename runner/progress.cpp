@@ -84,11 +84,12 @@ std::string Progress::eta() const {
   double work = 0, longest = 0;
   for (const ProgressJob& r : running_jobs_) {
     const double f = std::clamp(r.fraction, 0.0, 1.0);
+    const double f0 = std::clamp(r.start_fraction, 0.0, f);
     double rest;
-    if (f >= 0.02 && r.elapsed_s > 0)
-      rest = r.elapsed_s * (1.0 - f) / f;
+    if (f - f0 >= 0.02 && r.elapsed_s > 0)
+      rest = r.elapsed_s * (1.0 - f) / (f - f0);
     else if (r.predicted_s)
-      rest = std::max(*r.predicted_s * ratio - r.elapsed_s, 0.0);
+      rest = std::max(*r.predicted_s * ratio * (1.0 - f0) - r.elapsed_s, 0.0);
     else if (per_job)
       rest = *per_job * (1.0 - f);
     else

@@ -5,8 +5,9 @@
 // run, so a long job in a log is never silent.
 //
 // ETA, the work left divided by the workers (never less than the longest running job's rest):
-// - a running job at simulated-time fraction f after e seconds has e (1 - f) / f left (its own
-//   rate, once f >= 2 %); before that, its cost-model estimate less e;
+// - a running job at simulated-time fraction f after e seconds has e (1 - f) / (f - f0) left (its
+//   own rate since it started at f0: 0, or the fraction of the checkpoint it resumed from; once
+//   f - f0 >= 2 %); before that, its cost-model estimate less e (scaled by 1 - f0);
 // - a job not started, its cost-model estimate (cost.hpp);
 // each estimate scaled by the ratio of measured to estimated time of the jobs finished in this run.
 // A job without an estimate counts as the mean wall time of the jobs finished in this run (before
@@ -28,6 +29,7 @@ struct ProgressJob {
   double fraction = 0;               // simulated-time fraction 0..1
   double elapsed_s = 0;              // wall seconds since it started
   std::optional<double> predicted_s; // the cost model's wall seconds for it
+  double start_fraction = 0;         // fraction at the attempt's start (a resumed checkpoint)
 };
 
 class Progress {

@@ -52,6 +52,19 @@ TEST(Progress, EtaFromTheRunningJobsOwnRatesAndTheCostModel) {
   EXPECT_EQ(p.eta(), "2:05"); // (100 + 50 + 100) / 2
 }
 
+// A job resumed from a checkpoint at 16 % that has reached 19 % 13 minutes later has progressed
+// 3 % in that time: about 5.8 hours left, not the 57 minutes that 19 % in 13 minutes would say.
+TEST(Progress, AResumedJobsRateCountsOnlyTheProgressSinceItsCheckpoint) {
+  std::ostringstream out;
+  Progress p(out, false, 1, 1);
+  p.set_running(1);
+  p.set_running_jobs({{"fsi", 0.19, 780.0, std::nullopt, 0.16}});
+  EXPECT_EQ(p.eta(), "5:51:00"); // 780 s x 0.81 / 0.03 = 21 060 s
+  // Too little progress since the checkpoint for a rate: the estimate of the part left.
+  p.set_running_jobs({{"fsi", 0.17, 60.0, 1000.0, 0.16}});
+  EXPECT_EQ(p.eta(), "13:00"); // 1000 s x (1 - 0.16) - 60 s
+}
+
 TEST(Progress, PlainModeWritesLogLinesAndPeriodicProgress) {
   std::ostringstream out;
   Progress p(out, false, 3, 2);
