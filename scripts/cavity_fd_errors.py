@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """RMS errors of recorded cavity profiles against the finite-difference reference.
 
-Usage: scripts/cavity_fd_errors.py RESULTS.csv [REFERENCE.csv] [--column N512]
+Usage: scripts/cavity_fd_errors.py RESULTS.csv [--re RE] [--column N512]
 
-RESULTS.csv: a published results file (docs/results/<study>.csv, or `runner export`) of a
-cavity study at Re = 100; its jobs record u_x and u_y at Ghia, Ghia & Shin's 17 points
-(ux_at_y_<y>, uy_at_x_<x>) and ux_rms_err / uy_rms_err against Ghia's table. REFERENCE.csv:
-the output of `build/cavity_fd 100 128 256 512` (default reference/cavity_re100_fd.csv).
-For each job: the recorded errors against Ghia, and the same RMS (the 15 interior points of each
-centreline) against the reference's column (default N512, the finest grid).
+RESULTS.csv: a published results file (docs/results/<study>.csv) of a cavity study; its jobs
+record u_x and u_y at Ghia, Ghia & Shin's 17 points (ux_at_y_<y>, uy_at_x_<x>) and ux_rms_err /
+uy_rms_err against Ghia's table. The reference: reference/cavity_re<RE>_fd.csv (RE = 100 by
+default, or 1000), the output of `build/cavity_fd RE 128 256 512`. For each job at that Re: the
+recorded errors against Ghia, and the same RMS (the 15 interior points of each centreline)
+against the reference's column (N512, the finest grid, by default; `richardson` the
+extrapolation of 256 and 512).
 """
 import csv
 import json
@@ -20,15 +21,16 @@ from collections import defaultdict
 
 def main(argv):
     args = [a for a in argv if not a.startswith("--")]
-    column = "N512"
-    if "--column" in argv:
-        column = argv[argv.index("--column") + 1]
-        args.remove(column)
+    opts = {"--column": "N512", "--re": "100"}
+    for o in opts:
+        if o in argv:
+            opts[o] = argv[argv.index(o) + 1]
+            args.remove(opts[o])
+    column, Re = opts["--column"], float(opts["--re"])
     if not args:
         sys.exit(__doc__)
     here = os.path.dirname(os.path.abspath(__file__))
-    ref_path = args[1] if len(args) > 1 else os.path.join(here, "..", "reference",
-                                                           "cavity_re100_fd.csv")
+    ref_path = os.path.join(here, "..", "reference", f"cavity_re{Re:g}_fd.csv")
     ref = {}
     with open(ref_path) as f:
         for r in csv.DictReader(f):
@@ -47,7 +49,7 @@ def main(argv):
                   "uy_rms_err_fd"])
     for job, m in jobs.items():
         tier, p = params[job]
-        if p.get("Re") != 100.0 or "ux_rms_err" not in m:
+        if p.get("Re") != Re or "ux_rms_err" not in m:
             continue
         err = {}
         for prefix in ("ux_at_y_", "uy_at_x_"):
