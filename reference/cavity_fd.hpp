@@ -25,9 +25,9 @@ namespace sph {
 struct CavityFdSolution {
   int N = 0;
   double Re = 0;
-  std::vector<double> psi, omega; // node (i, j) at i + (N + 1) j
-  int newton_iterations = 0;      // over all continuation stages
-  double residual = 0;            // max-norm of the scaled discrete equations at the end
+  std::vector<double> psi;   // node (i, j) at i + (N + 1) j (the vorticity is not kept)
+  int newton_iterations = 0; // over all continuation stages
+  double residual = 0;       // max-norm of the scaled discrete equations at the end
 
   // u on the vertical centreline x = 0.5 at y = j / N, v on the horizontal one at x = i / N.
   double u_centre(int j) const;

@@ -3,23 +3,13 @@
 // of Ghia, Ghia & Shin's (1982) Tables I and II: u(0.5, y) and v(x, 0.5) per grid, and the
 // Richardson extrapolation (4 f_N - f_N/2) / 3 of the two finest grids.
 #include "cavity_fd.hpp"
+#include "data/ghia1982.hpp"
 
-#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
-
-namespace {
-// Ghia et al.'s point coordinates (the same for u and v tables), as they print them.
-constexpr std::array<double, 17> ghia_y{1.0000, 0.9766, 0.9688, 0.9609, 0.9531, 0.8516,
-                                        0.7344, 0.6172, 0.5000, 0.4531, 0.2813, 0.1719,
-                                        0.1016, 0.0703, 0.0625, 0.0547, 0.0000};
-constexpr std::array<double, 17> ghia_x{1.0000, 0.9688, 0.9609, 0.9531, 0.9453, 0.9063,
-                                        0.8594, 0.8047, 0.5000, 0.2344, 0.2266, 0.1563,
-                                        0.0938, 0.0781, 0.0703, 0.0625, 0.0000};
-} // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3) {
@@ -47,18 +37,17 @@ int main(int argc, char** argv) {
   if (extrapolate)
     std::printf(",richardson");
   std::printf("\n");
-  for (int pass = 0; pass < 2; ++pass)
-    for (int k = 0; k < 17; ++k) {
-      const double c = pass == 0 ? ghia_y[k] : ghia_x[k];
-      std::printf("%s,%.4f", pass == 0 ? "u_at_y" : "v_at_x", c);
+  // Ghia et al.'s point coordinates, as they print them (the same for Re = 100 and 1000).
+  using sph::data::ghia_re1000_x, sph::data::ghia_re1000_y;
+  for (const bool u : {true, false})
+    for (int k = 0; k < sph::data::ghia_points; ++k) {
+      const double c = u ? ghia_re1000_y[k] : ghia_re1000_x[k];
+      auto at = [&](const sph::CavityFdSolution& g) { return u ? g.u_at_y(c) : g.v_at_x(c); };
+      std::printf("%s,%.4f", u ? "u_at_y" : "v_at_x", c);
       for (const auto& g : s)
-        std::printf(",%.6f", pass == 0 ? g.u_at_y(c) : g.v_at_x(c));
-      if (extrapolate) {
-        const auto &f = s.back(), &c2 = s[s.size() - 2];
-        const double a = pass == 0 ? f.u_at_y(c) : f.v_at_x(c);
-        const double b = pass == 0 ? c2.u_at_y(c) : c2.v_at_x(c);
-        std::printf(",%.6f", (4.0 * a - b) / 3.0);
-      }
+        std::printf(",%.6f", at(g));
+      if (extrapolate)
+        std::printf(",%.6f", (4.0 * at(s.back()) - at(s[s.size() - 2])) / 3.0);
       std::printf("\n");
     }
   return 0;

@@ -38,6 +38,9 @@ def main(argv):
                 sys.exit(f"{ref_path}: no column {column}")
             name = ("ux_at_y_" if r["profile"] == "u_at_y" else "uy_at_x_") + r["coord"]
             ref[name] = float(r[column])
+    # The 15 interior points of each centreline (the walls' values are exact).
+    inner = {prefix: [n for n in ref if n.startswith(prefix) and 0.0 < float(n[len(prefix):]) < 1.0]
+             for prefix in ("ux_at_y_", "uy_at_x_")}
     jobs = defaultdict(dict)
     params = {}
     with open(args[0]) as f:
@@ -51,15 +54,10 @@ def main(argv):
         tier, p = params[job]
         if p.get("Re") != Re or "ux_rms_err" not in m:
             continue
-        err = {}
-        for prefix in ("ux_at_y_", "uy_at_x_"):
-            names = [n for n in ref if n.startswith(prefix)]
-            inner = [n for n in names if 0.0 < float(n[len(prefix):]) < 1.0]
-            if any(n not in m for n in inner):
-                break
-            err[prefix] = math.sqrt(sum((m[n] - ref[n]) ** 2 for n in inner) / len(inner))
-        if len(err) < 2:
+        if any(n not in m for names in inner.values() for n in names):
             continue
+        err = {prefix: math.sqrt(sum((m[n] - ref[n]) ** 2 for n in names) / len(names))
+               for prefix, names in inner.items()}
         rest = {k: v for k, v in p.items() if k not in ("Re", "dx")}
         out.writerow([tier, p.get("dx"), json.dumps(rest, sort_keys=True)] +
                      [f"{v:.4f}" for v in (m["ux_rms_err"], m["uy_rms_err"], err["ux_at_y_"],
