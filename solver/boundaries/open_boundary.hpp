@@ -62,6 +62,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <vector>
 
 namespace sph::open_boundary {
@@ -99,6 +100,30 @@ struct BufferPressure {
   }
 };
 
+// Buffer velocity: particle i (a buffer particle) gets the Shepard average of its fluid
+// neighbours' velocities sum_j W_ij v_j / sum_j W_ij when use(i) and it has a fluid neighbour
+// (else it keeps its own): a zero normal gradient of the velocity, for an outlet whose flow is not
+// known in advance (a disposer buffer behind fluid that starts at rest).
+template <int D, class Use>
+struct BufferVelocity {
+  const std::vector<Kind>& kind;
+  std::vector<Vec<D>>& v;
+  Use use;
+  struct Acc {
+    Vec<D> num = Vec<D>::Zero();
+    double den = 0.0;
+  };
+  Acc init(std::size_t) const { return {}; }
+  void pair(std::size_t, const Pair<D>& q, Acc& a) const {
+    if (kind[q.j] == Kind::Fluid)
+      a.num += q.W * v[q.j], a.den += q.W;
+  }
+  void finish(std::size_t i, const Acc& a) {
+    if (use(i) && a.den > 0.0)
+      v[i] = a.num / a.den;
+  }
+};
+
 // Inflow: the emitter buffer upstream of x_in (see the header).
 template <int D>
 class Emitter {
@@ -109,6 +134,11 @@ public:
     double dx = 0.1;   // lattice spacing
     // Rows: lattice indices of the transverse axes 1..D-1, points (k + 1/2) dx, k in [lo, hi).
     std::array<int, D> lo{}, hi{};
+    // Or, when not empty, the rows' transverse positions (axis 0 ignored) and each row's particle
+    // volume (for a slice of thickness dx): a section that is not a lattice, e.g. the rings of a
+    // round inlet (core/axisymmetric_duct.hpp). The lattice rows' volume is dx^D.
+    std::vector<Vec<D>> section;
+    std::vector<double> section_volume;
     double rho0 = 1.0;
     VelocityField<D> u_in;
     bool extrapolate_pressure = false; // else p = p_ref
@@ -127,17 +157,29 @@ public:
   // The initial buffer lattice at time t; next_id numbers new particles (Particles::id).
   void fill(Particles<D>& p, double t, std::int64_t& next_id) const {
     const int zk = zone_field(p);
+    if (!c_.section.empty()) {
+      if (c_.section_volume.size() != c_.section.size())
+        throw std::invalid_argument("Emitter: one volume per section row needed");
+      for (int l = 0; l < c_.layers; ++l)
+        for (std::size_t k = 0; k < c_.section.size(); ++k) {
+          Vec<D> x = c_.section[k];
+          x[0] = c_.x_in - (l + 0.5) * c_.dx;
+          add(p, zk, x, c_.rho0 * c_.section_volume[k], t, next_id);
+        }
+      return;
+    }
     std::array<int, D> lo = c_.lo, hi = c_.hi;
     lo[0] = 0, hi[0] = c_.layers;
     for_each_lattice_point<D>(lo, hi, c_.dx, [&](Vec<D> x, const std::array<int, D>&) {
       x[0] = c_.x_in - x[0];
-      add(p, zk, x, t, next_id);
+      add(p, zk, x, particle_mass(), t, next_id);
     });
   }
 
   // Before a step at time t (t_mid: the time at which the buffer's velocity holds over the step):
-  // buffer particles past x_in become fluid, each replaced upstream; then every buffer particle
-  // gets u_in(r, t_mid), rho0 and (without extrapolation) p_ref. Returns the number emitted.
+  // buffer particles past x_in become fluid, each replaced upstream by one of its mass on its
+  // row; then every buffer particle gets u_in(r, t_mid), rho0 and (without extrapolation) p_ref.
+  // Returns the number emitted.
   std::size_t update(Particles<D>& p, double t_mid, std::int64_t& next_id) {
     const int zk = zone_field(p);
     const std::size_t n0 = p.size();
@@ -149,10 +191,10 @@ public:
       p.scalar(zk)[i] = 0.0;
       Vec<D> x = p.r[i];
       x[0] -= length();
-      add(p, zk, x, t_mid, next_id);
+      mass_in_ += p.m[i];
+      add(p, zk, x, p.m[i], t_mid, next_id);
       ++emitted;
     }
-    mass_in_ += static_cast<double>(emitted) * particle_mass();
     for (std::size_t i = 0; i < p.size(); ++i)
       if (in_zone(p, i, zk)) {
         p.v[i] = c_.u_in(p.r[i], t_mid);
@@ -171,8 +213,9 @@ private:
   Config c_;
   double mass_in_ = 0.0;
 
-  void add(Particles<D>& p, int zk, const Vec<D>& x, double t, std::int64_t& next_id) const {
-    const std::size_t k = p.add(x, particle_mass(), c_.rho0, Kind::Buffer);
+  void add(Particles<D>& p, int zk, const Vec<D>& x, double m, double t,
+           std::int64_t& next_id) const {
+    const std::size_t k = p.add(x, m, c_.rho0, Kind::Buffer);
     p.v[k] = c_.u_in(x, t);
     p.p[k] = c_.p_ref;
     p.scalar(zk)[k] = c_.zone;

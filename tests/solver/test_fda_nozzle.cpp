@@ -1,0 +1,89 @@
+// The FDA nozzle's geometry and inflow (solver/core/axisymmetric_duct.hpp, solver/cases/
+// fda_nozzle.cpp; Stewart et al. 2012, Cardiovasc. Eng. Technol. 3:139, Fig. 1):
+//   1. The body-fitted rings: every slice's lumen volumes add up to pi R(x)^2 dx (pipe, cone,
+//      throat), the walls stay outside the lumen and within their thickness of the wall line, and
+//      the radius and distance of a sudden step are those of the polyline.
+//   2. The case at a coarse spacing through its interface: the fluid in the throat's slices has
+//      the throat's volume pi R_t^2 L_t (R_t = 2 mm, L_t = 40 mm) and the whole lumen the
+//      benchmark's (pipes, 10 degree cone, throat) within 2 %, and the inlet's rows impose the
+//      benchmark's flow rate Q = 5.206e-6 m^3/s (throat Re = 500) within 2 %.
+#include "case_helpers.hpp"
+#include "core/axisymmetric_duct.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace {
+
+using namespace sph;
+using sph::testing::case_defaults;
+using sph::testing::metric;
+
+TEST(AxisymmetricDuct, SlicesHoldTheLumensVolumeAndWallsLieOutsideWithinTheirThickness) {
+  const double pi = std::numbers::pi, dx = 0.3, thick = 0.9;
+  // Pipe R = 3, cone to R = 1 over x in [2, 6), throat to x = 9, step back to R = 3.
+  const AxisymmetricDuct d({2.0, 6.0, 9.0, 9.0}, {3.0, 1.0, 1.0, 3.0});
+  EXPECT_DOUBLE_EQ(d.radius(0.0), 3.0);
+  EXPECT_DOUBLE_EQ(d.radius(4.0), 2.0);
+  EXPECT_DOUBLE_EQ(d.radius(8.9), 1.0);
+  EXPECT_DOUBLE_EQ(d.radius(9.0), 3.0);                  // the step belongs to the wider side
+  EXPECT_NEAR(d.distance_to_wall(8.5, 2.0), 0.5, 1e-12); // nearest: the step's face
+  EXPECT_NEAR(d.distance_to_wall(0.0, 2.5), 0.5, 1e-12); // the inlet pipe
+  const int n = 40;
+  const auto pts = d.particles(0.0, n, dx, thick);
+  std::map<int, double> lumen;
+  int walls = 0;
+  for (const auto& q : pts) {
+    const double rho = std::hypot(q.r.y(), q.r.z());
+    const int s = static_cast<int>(std::floor(q.r.x() / dx));
+    if (q.fluid) {
+      EXPECT_LT(rho, d.radius(q.r.x()));
+      lumen[s] += q.V;
+    } else {
+      ++walls;
+      EXPECT_GE(rho, d.radius(q.r.x()));
+      EXPECT_LT(d.distance_to_wall(q.r.x(), rho), thick);
+    }
+  }
+  EXPECT_GT(walls, 0);
+  ASSERT_EQ(static_cast<int>(lumen.size()), n);
+  for (const auto& [s, V] : lumen) {
+    const double R = d.radius((s + 0.5) * dx);
+    EXPECT_NEAR(V, pi * R * R * dx, 1e-12 * pi * R * R * dx) << s;
+  }
+  // The ring spacing is about dx: a ring's particles are dx apart along it, within 30 %.
+  for (const auto& q : d.section(1.0, dx)) {
+    const double rho = std::hypot(q.r.y(), q.r.z());
+    if (rho > dx) {
+      const int n_ring = static_cast<int>(std::lround(2 * pi * rho / dx));
+      EXPECT_NEAR(2 * pi * rho / n_ring, dx, 0.3 * dx);
+    }
+  }
+}
+
+TEST(FdaNozzle, ThroatAndLumenHaveTheBenchmarksVolumeAndTheInletImposesItsFlowRate) {
+  Params prm = case_defaults("fda_nozzle", "wcsph_tvf");
+  prm["dx"] = 0.001;
+  prm["upstream_length"] = 0.004;
+  prm["downstream_length"] = 0.006;
+  prm["ramp_time"] = 0.002;
+  prm["t_end"] = 0.003;
+  prm["flux_window"] = 0.0;
+  const RunResult r = find_case("fda_nozzle")->run(prm, RunContext{});
+  ASSERT_EQ(r.status, RunStatus::Done) << r.message;
+  // The benchmark's numbers, not the case's constants: throat 4 mm across and 40 mm long; the
+  // lumen from the inlet (4 mm of pipe before the cone) to 6 mm past the expansion: pipes of
+  // radius 6 mm, the cone's frustum over 4 mm / tan(10 deg); the flow rate of the PIV files.
+  const double pi = std::numbers::pi, L_c = 0.004 / std::tan(10.0 * pi / 180.0);
+  const double V_throat = pi * 0.002 * 0.002 * 0.040;
+  const double V_lumen = pi * 0.006 * 0.006 * (0.004 + 0.006) + V_throat +
+                         pi / 3.0 * L_c * (0.006 * 0.006 + 0.006 * 0.002 + 0.002 * 0.002);
+  EXPECT_NEAR(metric(r, "throat_volume") / V_throat, 1.0, 0.02);
+  EXPECT_NEAR(metric(r, "fluid_volume") / V_lumen, 1.0, 0.02);
+  EXPECT_NEAR(metric(r, "inflow_rate") / 5.20624e-6, 1.0, 0.02);
+}
+
+} // namespace
