@@ -516,6 +516,13 @@ TEST(Checkpoint, OpenBoundariesResumeToTheSameBits) {
   c["domain_height"] = 6.0, c["upstream_length"] = 4.0;
   EXPECT_CONTAINS(expect_resume_is_exact("cylinder_free_stream", c, 0.5, 13, costs),
                   "resumed at t = ");
+  // The 3D nozzle: emitter over the inlet's rings, the outlet buffer moving with the fluid, the
+  // flux window's start; a short nozzle at Re_throat = 2000 so that slices are emitted and disposed
+  // of within the run (4 and 6 mm of pipe around the throat, 8 ms).
+  Params n = case_defaults("fda_nozzle");
+  n["dx"] = 0.001, n["upstream_length"] = 0.004, n["downstream_length"] = 0.006;
+  n["Re_throat"] = 2000.0, n["ramp_time"] = 0.002, n["t_end"] = 0.008, n["flux_window"] = 0.005;
+  EXPECT_CONTAINS(expect_resume_is_exact("fda_nozzle", n, 0.5, 11, costs), "resumed at t = ");
   // With two resolution levels (issue 19 section 2): the h field and the split/merge counters are
   // state (the levels keep nothing else). No particle crosses the band's edges within these 3 D/U
   // (checked: both counters 0), so this pins the two-level fill, emitters and state layout, not a
