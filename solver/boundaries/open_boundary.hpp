@@ -100,10 +100,14 @@ struct BufferPressure {
   }
 };
 
-// Buffer velocity: particle i (a buffer particle) gets the Shepard average of its fluid
-// neighbours' velocities sum_j W_ij v_j / sum_j W_ij when use(i) and it has a fluid neighbour
-// (else it keeps its own): a zero normal gradient of the velocity, for an outlet whose flow is not
-// known in advance (a disposer buffer behind fluid that starts at rest).
+// Buffer velocity: particle i (a buffer particle) gets the stream component (axis 0) of the
+// Shepard average of its fluid neighbours' velocities, sum_j W_ij v_j / sum_j W_ij, when use(i)
+// and it has a fluid neighbour (else it keeps its own): a zero normal gradient of the outflow, for
+// an outlet whose flow is not known in advance (a disposer buffer behind fluid that starts at
+// rest). The transverse components are dropped and a backflow is cut to zero (u_x >= 0): buffer
+// particles are not integrated, so one that followed a recirculation upstream would sweep through
+// the fluid (the nozzle's first run diverged so at t = 0.14 s, its outlet inside the expansion's
+// recirculation).
 template <int D, class Use>
 struct BufferVelocity {
   const std::vector<Kind>& kind;
@@ -119,8 +123,10 @@ struct BufferVelocity {
       a.num += q.W * v[q.j], a.den += q.W;
   }
   void finish(std::size_t i, const Acc& a) {
-    if (use(i) && a.den > 0.0)
-      v[i] = a.num / a.den;
+    if (use(i) && a.den > 0.0) {
+      v[i] = Vec<D>::Zero();
+      v[i][0] = std::max(a.num[0] / a.den, 0.0);
+    }
   }
 };
 

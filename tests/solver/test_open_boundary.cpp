@@ -195,6 +195,47 @@ TEST(FreeStream, IndicatorDensityAndVelocity) {
 
 // The spatio-temporal filter: a void opened inside the bulk (particles removed) is not a free
 // surface when no particle around it was on the surface the step before.
+// The outlet buffer's velocity (BufferVelocity): the stream component of the Shepard average of
+// the fluid around each buffer particle, computed here by brute force over the fluid within the
+// support; no transverse component; a backflow cut to zero. The top two rows of a slab are the
+// buffer, the fluid below moves with u = (0.3 + 0.5 y, 0.2) and then with u = (-0.3 - 0.5 y, 0.2).
+TEST(BufferVelocity, ShepardAverageOfTheFluidsStreamComponentWithoutBackflow) {
+  Slab s;
+  const int zk = zone_field(s.p);
+  for (std::size_t i = 0; i < s.p.size(); ++i)
+    if (s.row(i) >= Slab::ny - 2)
+      s.p.kind[i] = Kind::Buffer, s.p.scalar(zk)[i] = 2.0;
+  auto buffer = [&](std::size_t i) { return s.p.kind[i] == Kind::Buffer; };
+  for (const double sign : {1.0, -1.0}) {
+    for (std::size_t i = 0; i < s.p.size(); ++i)
+      s.p.v[i] = buffer(i) ? V2(9.0, 9.0) : V2(sign * (0.3 + 0.5 * s.p.r[i][1]), 0.2);
+    const std::vector<V2> v0 = s.p.v;
+    BufferVelocity<2, decltype(buffer)> op{s.p.kind, s.p.v, buffer};
+    interact(s.nl, op, buffer);
+    int checked = 0;
+    for (std::size_t i = 0; i < s.p.size(); ++i) {
+      if (!buffer(i)) {
+        EXPECT_EQ(s.p.v[i], v0[i]); // the fluid is left alone
+        continue;
+      }
+      double num = 0.0, den = 0.0;
+      for (std::size_t j = 0; j < s.p.size(); ++j) {
+        V2 d = s.p.r[i] - s.p.r[j];
+        d[0] -= Slab::nx * Slab::dx * std::round(d[0] / (Slab::nx * Slab::dx)); // periodic in x
+        if (buffer(j) || d.norm() >= s.W.support())
+          continue;
+        num += s.W.W(d.norm()) * v0[j][0], den += s.W.W(d.norm());
+      }
+      ASSERT_GT(den, 0.0);
+      EXPECT_NEAR(s.p.v[i][0], std::max(num / den, 0.0), 1e-12) << i;
+      EXPECT_EQ(s.p.v[i][1], 0.0);
+      checked += sign > 0 && num / den > 0.3;
+    }
+    if (sign > 0)
+      EXPECT_GT(checked, 0);
+  }
+}
+
 TEST(FreeStream, AnInteriorVoidIsNotASurface) {
   Slab s;
   FreeStream<2> fs(s.p, fs_config());
