@@ -64,7 +64,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <map>
 #include <numbers>
 
@@ -112,7 +111,6 @@ public:
     const int n_out = static_cast<int>(std::lround(x_out_ / dx_));
     const int n_buf = layers_ + static_cast<int>(std::ceil(wall / dx_));
     const double x_lo = x_in_ - n_buf * dx_;
-    const double L_th = L_throat;
     const int zk = open_boundary::zone_field(p);
     const double x_end = x_out_ + layers_ * dx_;
     for (const auto& q : duct_.particles(x_lo, n_buf + n_in + n_out + n_buf, dx_, wall)) {
@@ -127,7 +125,7 @@ public:
         p.scalar(zk)[k] = 2.0;
       if (kind == Kind::Fluid) {
         vol_fluid_ += q.V, ++n_fluid_;
-        if (q.r.x() > -L_th && q.r.x() < 0.0)
+        if (q.r.x() > -L_throat && q.r.x() < 0.0)
           vol_throat_ += q.V;
       }
     }
@@ -139,16 +137,11 @@ public:
       ec.section.push_back(q.r), ec.section_volume.push_back(q.V);
     const int n_r = std::max(1, static_cast<int>(std::lround(R_pipe / dx_)));
     const double dr = R_pipe / n_r, U_in = Q_ / (std::numbers::pi * R_pipe * R_pipe);
-    const double ramp = ramp_;
-    ec.u_in = [=](const V3& r, double t) {
-      const double rho2 = r.y() * r.y() + r.z() * r.z();
-      const double f = t < ramp ? 0.5 * (1.0 - std::cos(std::numbers::pi * t / ramp)) : 1.0;
+    ec.u_in = [this, dr, U_in](const V3& r, double t) {
+      const double rho2 = r.y() * r.y() + r.z() * r.z(), f = ramp_factor(t);
       return V3(2.0 * U_in * (1.0 - (rho2 + 0.25 * dr * dr) / (R_pipe * R_pipe)) * f, 0.0, 0.0);
     };
     u_in_ = ec.u_in;
-    ramp_f_ = [=](double t) {
-      return t < ramp ? 0.5 * (1.0 - std::cos(std::numbers::pi * t / ramp)) : 1.0;
-    };
     ec.extrapolate_pressure = true;
     emitter_ = std::make_unique<open_boundary::Emitter<3>>(ec);
     emitter_->fill(p, 0.0, next_id_);
@@ -266,8 +259,8 @@ public:
     for (const auto& q : duct_.section(x_in_ - 0.5 * dx_, dx_))
       q_rows += q.V / dx_ * u_in_(q.r, at.t).x();
     res.add("inflow_rate", q_rows);
-    if (ramp_f_(at.t) > 0.0)
-      res.add("inflow_rate_rel_err", q_rows / (Q_ * ramp_f_(at.t)) - 1.0);
+    if (ramp_factor(at.t) > 0.0)
+      res.add("inflow_rate_rel_err", q_rows / (Q_ * ramp_factor(at.t)) - 1.0);
     const double T = at.t - t0_;
     if (in_window_ && T > 0.0) {
       const double in = (emitter_->mass_in() - m_in0_) / (rho_f * T);
@@ -324,7 +317,6 @@ private:
   int layers_ = 4;
   Particles<3>* p_ = nullptr;
   open_boundary::VelocityField<3> u_in_;
-  std::function<double(double)> ramp_f_;
   std::unique_ptr<open_boundary::Emitter<3>> emitter_;
   std::unique_ptr<open_boundary::Disposer<3>> disposer_;
   std::int64_t next_id_ = 0;
@@ -334,6 +326,10 @@ private:
   double t0_ = 0.0, m_in0_ = 0.0, m_out0_ = 0.0;
 
   bool inside(double z) const { return z > x_in_ && z < x_out_; }
+  // The smooth start f(t) of the inflow.
+  double ramp_factor(double t) const {
+    return t < ramp_ ? 0.5 * (1.0 - std::cos(std::numbers::pi * t / ramp_)) : 1.0;
+  }
   // pi R^2 L of the pipes and the throat, the cone's frustum, between x_in and x_out.
   double lumen_volume() const {
     const double pi = std::numbers::pi, x_c = -L_throat - L_cone;
