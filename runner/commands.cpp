@@ -111,6 +111,19 @@ std::string joined_tiers(const StudyJob& j) {
   return tiers;
 }
 
+// The ';'-separated tiers of a, then those of b that a lacks.
+std::string merged_tiers(const std::string& a, const std::string& b) {
+  std::string out = a;
+  std::set<std::string> seen;
+  std::istringstream ia(a), ib(b);
+  for (std::string t; std::getline(ia, t, ';');)
+    seen.insert(t);
+  for (std::string t; std::getline(ib, t, ';');)
+    if (!t.empty() && seen.insert(t).second)
+      out += (out.empty() ? "" : ";") + t;
+  return out;
+}
+
 std::string json_path(const std::string& param) {
   for (char c : param)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_')
@@ -684,6 +697,7 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
   // The rows already committed, grouped by job in file order.
   std::vector<std::string> order;
   std::map<std::string, std::vector<std::string>> old_rows;
+  std::map<std::string, std::string> old_tiers; // a job's tier label in the file
   if (std::ifstream in{out_file}) {
     std::string line;
     if (!std::getline(in, line) || line != publish_header)
@@ -695,7 +709,7 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
         throw std::runtime_error(out_file.string() + ": line " + std::to_string(n) +
                                  ": expected 7 fields of study '" + study + "'");
       if (!old_rows.count(f[1]))
-        order.push_back(f[1]);
+        order.push_back(f[1]), old_tiers[f[1]] = f[2];
       old_rows[f[1]].push_back(line);
     }
   }
@@ -719,8 +733,13 @@ int cmd_publish(const std::filesystem::path& db_path, const std::string& study,
     if ((j.state != JobState::done && j.state != JobState::diverged) || !metrics.count(j.id))
       continue;
     const auto v = versions.find(j.id);
-    const std::string prefix = csv_field(study) + "," + j.key + "," + csv_field(joined_tiers(j)) +
-                               "," + csv_field(v == versions.end() ? "" : v->second) + "," +
+    // A job the file has already keeps the tiers it was published under (another database may
+    // have run it for another tier), this database's added after them.
+    std::string tiers = joined_tiers(j);
+    if (const auto o = old_tiers.find(j.key); o != old_tiers.end())
+      tiers = merged_tiers(o->second, tiers);
+    const std::string prefix = csv_field(study) + "," + j.key + "," + csv_field(tiers) + "," +
+                               csv_field(v == versions.end() ? "" : v->second) + "," +
                                csv_field(j.params_json) + ",";
     auto& rows = new_rows[j.key];
     for (const MetricValue* m : metrics[j.id])

@@ -1,7 +1,8 @@
 // Issue 15 section 4: `runner publish STUDY` writes the committed record of a study's runs,
 // docs/results/<study>.csv, one row per job and metric with exactly the header
 // `study,job,tier,code_version,params,metric,value`; values round-trip; a second database adds
-// its jobs and keeps the file's others; a file of another shape is refused and left unchanged.
+// its jobs and keeps the file's others; a job published again from a database that ran it for
+// another tier keeps both tier labels; a file of another shape is refused and left unchanged.
 #include "commands.hpp"
 #include "e2e_helpers.hpp"
 
@@ -98,6 +99,30 @@ TEST(Publish, ASecondDatabaseAddsItsJobsAndKeepsTheOthers) {
   r = run_runner(dir, "publish pub --db a.sqlite --out pub.csv");
   EXPECT_CONTAINS(r.out, "0 jobs added, 2 replaced, 2 kept");
   EXPECT_EQ(lines_of(read_file(dir / "pub.csv")), both);
+}
+
+TEST(Publish, AJobPublishedAgainForAnotherTierKeepsBothTierLabels) {
+  TempDir dir;
+  write_text(dir / "s.toml", study + std::string("[tiers.coarse]\nsweep = { n_side = [8] }\n"));
+  ASSERT_EQ(run_runner(dir, "s.toml --tier quick --db a.sqlite").code, 0);
+  ASSERT_EQ(run_runner(dir, "s.toml --tier coarse --db b.sqlite").code, 0);
+  ASSERT_EQ(run_runner(dir, "publish pub --db a.sqlite --out pub.csv").code, 0);
+  auto r = run_runner(dir, "publish pub --db b.sqlite --out pub.csv");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_CONTAINS(r.out, "0 jobs added, 2 replaced, 0 kept");
+  const auto lines = lines_of(read_file(dir / "pub.csv"));
+  ASSERT_GT(lines.size(), 1u);
+  for (std::size_t i = 1; i < lines.size(); ++i)
+    EXPECT_EQ(csv_split(lines[i])[2], "quick;coarse") << lines[i];
+  // Publishing the same database again changes nothing; publishing the first again takes its
+  // values (its own CPU timings) and keeps both labels.
+  ASSERT_EQ(run_runner(dir, "publish pub --db b.sqlite --out pub.csv").code, 0);
+  EXPECT_EQ(lines_of(read_file(dir / "pub.csv")), lines);
+  ASSERT_EQ(run_runner(dir, "publish pub --db a.sqlite --out pub.csv").code, 0);
+  const auto again = lines_of(read_file(dir / "pub.csv"));
+  ASSERT_EQ(again.size(), lines.size());
+  for (std::size_t i = 1; i < again.size(); ++i)
+    EXPECT_EQ(csv_split(again[i])[2], "quick;coarse") << again[i];
 }
 
 TEST(Publish, AFileOfAnotherShapeIsRefusedAndLeftUnchanged) {
