@@ -66,6 +66,9 @@
 #include <cstdio>
 #include <map>
 #include <numbers>
+#include <stdexcept>
+#include <string>
+#include <variant>
 
 namespace sph {
 namespace {
@@ -366,6 +369,52 @@ CaseInfo make_fda_nozzle_case() {
        1e6},
   };
   add_loop_params(c.params); // output_interval (cases/loop_params.hpp)
+  // The metrics of the default domain (a shorter one leaves out the stations, sections and planes
+  // outside it).
+  auto default_of = [&](const std::string& name) {
+    for (const auto& spec : c.params)
+      if (spec.name == name)
+        return std::get<double>(spec.default_value);
+    throw std::logic_error("fda_nozzle: no parameter " + name);
+  };
+  const double x_in0 = -(default_of("upstream_length") + L_cone + L_throat);
+  const double x_out0 = default_of("downstream_length");
+  for (const auto& st : fda_piv::centreline)
+    if (st.z > x_in0 && st.z < x_out0)
+      c.metrics.push_back({station_name("u_centre_at_z_", st.z),
+                           "centreline axial velocity at this PIV station (m/s)"});
+  std::vector<double> sections;
+  for (const auto& q : fda_piv::profiles)
+    if (q.z > x_in0 && q.z < x_out0 && (sections.empty() || sections.back() != q.z))
+      sections.push_back(q.z);
+  for (const double z : sections)
+    c.metrics.push_back({station_name("profile_rms_err_at_z_", z),
+                         "RMS over the PIV points of this section of (u_x - PIV) / U_t"});
+  for (const double z : {-0.077, -0.020, 0.020, 0.060})
+    c.metrics.push_back({station_name("flow_rate_rel_err_at_z_", z),
+                         "volume flux through this plane (slab of 4 dx) / Q - 1"});
+  c.metrics.insert(
+      c.metrics.end(),
+      {
+          {"centreline_rms_err", "RMS over the PIV stations of (u_centre - PIV mean) / U_t"},
+          {"centreline_max_err", "largest |u_centre - PIV mean| / U_t over the stations"},
+          {"u_centre_throat", "centreline velocity at z = -0.008 m, the throat's last station"},
+          {"u_centre_throat_rel_err", "u_centre_throat / PIV mean - 1"},
+          {"profile_rms_err", "RMS of (u_x - PIV) / U_t over every section's points"},
+          {"inflow_rate", "flow rate the inlet's rows impose at t_end (m^3/s)"},
+          {"inflow_rate_rel_err", "inflow_rate / (Q f(t_end)) - 1"},
+          {"flow_rate_in", "emitted volume per unit time over the flux window (m^3/s)"},
+          {"flow_rate_out", "volume crossing the outlet per unit time over the window (m^3/s)"},
+          {"flow_imbalance", "(flow_rate_in - flow_rate_out) / flow_rate_in"},
+          {"flow_rate_in_rel_err", "flow_rate_in / Q - 1"},
+          {"throat_volume", "initial fluid volume in the throat's slices (m^3)"},
+          {"throat_volume_rel_err", "throat_volume / (pi R_t^2 L_t) - 1"},
+          {"fluid_volume", "initial fluid volume in the lumen (m^3)"},
+          {"fluid_volume_rel_err", "fluid_volume / the lumen's volume - 1"},
+          {"n_fluid_0", "initial fluid particles"},
+          {"ke", "kinetic energy of the fluid at t_end (J)"},
+      });
+  c.datasets = {{"centreline", "z (m), u (m/s): the centreline axial velocity on 401 points"}};
   c.size = [](const Params& prm) {
     const RunContext none;
     FdaNozzle n(prm, none);

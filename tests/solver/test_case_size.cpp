@@ -80,10 +80,10 @@ TEST(CaseSize, AdaptiveStepSchemesSizeTheirJobsFromTheFirstStep) {
                                0.15});
 }
 
-// `runner cases taylor_green` lists the case's metrics: the list is what a run records (with the
-// time loop's and the scheme's), neither more nor less.
-TEST(CaseOutputs, TaylorGreensDeclaredMetricsAreWhatItsRunRecords) {
-  const CaseInfo* info = find_case("taylor_green");
+// `runner cases CASE` lists the case's metrics: the list (with the time loop's and the scheme's)
+// is what a short run with `prm` records, neither more nor less.
+static void expect_declared_metrics_are_recorded(const std::string& name, Params prm) {
+  const CaseInfo* info = find_case(name);
   ASSERT_TRUE(info);
   std::set<std::string> declared;
   for (const auto& d : info->metrics)
@@ -93,13 +93,25 @@ TEST(CaseOutputs, TaylorGreensDeclaredMetricsAreWhatItsRunRecords) {
   for (const auto& d : flow_loop_metrics())
     if (d.name != "t_stop") // diverged jobs only
       declared.insert(d.name);
-  Params prm = case_defaults("taylor_green", "wcsph_tvf");
-  prm["n_side"] = std::int64_t{16};
-  prm["t_end"] = 0.1;
   const RunResult r = info->run(prm, RunContext{});
   ASSERT_EQ(r.status, RunStatus::Done) << r.message;
   std::set<std::string> recorded;
   for (const auto& [k, v] : r.metrics)
     recorded.insert(k);
-  EXPECT_EQ(declared, recorded);
+  EXPECT_EQ(declared, recorded) << name;
+}
+
+// The nozzle's per-station, per-section and per-plane metrics of its default domain.
+TEST(CaseOutputs, FdaNozzlesDeclaredMetricsAreWhatItsRunRecords) {
+  Params prm = case_defaults("fda_nozzle", "wcsph_tvf");
+  prm["dx"] = 0.001;
+  prm["t_end"] = 5e-4; // a few steps: the flux window needs two
+  expect_declared_metrics_are_recorded("fda_nozzle", prm);
+}
+
+TEST(CaseOutputs, TaylorGreensDeclaredMetricsAreWhatItsRunRecords) {
+  Params prm = case_defaults("taylor_green", "wcsph_tvf");
+  prm["n_side"] = std::int64_t{16};
+  prm["t_end"] = 0.1;
+  expect_declared_metrics_are_recorded("taylor_green", prm);
 }
