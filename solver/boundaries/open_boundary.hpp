@@ -62,7 +62,6 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
-#include <stdexcept>
 #include <vector>
 
 namespace sph::open_boundary {
@@ -100,32 +99,31 @@ struct BufferPressure {
   }
 };
 
-// Buffer velocity: particle i (a buffer particle) gets the stream component (axis 0) of the
-// Shepard average of its fluid neighbours' velocities, sum_j W_ij v_j / sum_j W_ij, when use(i)
-// and it has a fluid neighbour (else it keeps its own): a zero normal gradient of the outflow, for
+// Buffer velocity: a buffer particle i (those interact() selects) gets the stream component
+// (axis 0) of the Shepard average of its fluid neighbours' velocities, sum_j W_ij v_j,x /
+// sum_j W_ij, when it has a fluid neighbour (else it keeps its own): a zero normal gradient of the
+// outflow, for
 // an outlet whose flow is not known in advance (a disposer buffer behind fluid that starts at
 // rest). The transverse components are dropped and a backflow is cut to zero (u_x >= 0): buffer
 // particles are not integrated, so one that followed a recirculation upstream would sweep through
 // the fluid (the nozzle's first run diverged so at t = 0.14 s, its outlet inside the expansion's
 // recirculation).
-template <int D, class Use>
+template <int D>
 struct BufferVelocity {
   const std::vector<Kind>& kind;
   std::vector<Vec<D>>& v;
-  Use use;
   struct Acc {
-    Vec<D> num = Vec<D>::Zero();
-    double den = 0.0;
+    double num = 0.0, den = 0.0;
   };
   Acc init(std::size_t) const { return {}; }
   void pair(std::size_t, const Pair<D>& q, Acc& a) const {
     if (kind[q.j] == Kind::Fluid)
-      a.num += q.W * v[q.j], a.den += q.W;
+      a.num += q.W * v[q.j][0], a.den += q.W;
   }
   void finish(std::size_t i, const Acc& a) {
-    if (use(i) && a.den > 0.0) {
+    if (a.den > 0.0) {
       v[i] = Vec<D>::Zero();
-      v[i][0] = std::max(a.num[0] / a.den, 0.0);
+      v[i][0] = std::max(a.num / a.den, 0.0);
     }
   }
 };
@@ -140,11 +138,14 @@ public:
     double dx = 0.1;   // lattice spacing
     // Rows: lattice indices of the transverse axes 1..D-1, points (k + 1/2) dx, k in [lo, hi).
     std::array<int, D> lo{}, hi{};
-    // Or, when not empty, the rows' transverse positions (axis 0 ignored) and each row's particle
-    // volume (for a slice of thickness dx): a section that is not a lattice, e.g. the rings of a
+    // Or, when not empty, the rows: each row's transverse position (axis 0 ignored) and particle
+    // volume (for a slice of thickness dx), a section that is not a lattice, e.g. the rings of a
     // round inlet (core/axisymmetric_duct.hpp). The lattice rows' volume is dx^D.
-    std::vector<Vec<D>> section;
-    std::vector<double> section_volume;
+    struct Row {
+      Vec<D> r;
+      double V;
+    };
+    std::vector<Row> section;
     double rho0 = 1.0;
     VelocityField<D> u_in;
     bool extrapolate_pressure = false; // else p = p_ref
@@ -164,13 +165,11 @@ public:
   void fill(Particles<D>& p, double t, std::int64_t& next_id) const {
     const int zk = zone_field(p);
     if (!c_.section.empty()) {
-      if (c_.section_volume.size() != c_.section.size())
-        throw std::invalid_argument("Emitter: one volume per section row needed");
       for (int l = 0; l < c_.layers; ++l)
-        for (std::size_t k = 0; k < c_.section.size(); ++k) {
-          Vec<D> x = c_.section[k];
+        for (const auto& row : c_.section) {
+          Vec<D> x = row.r;
           x[0] = c_.x_in - (l + 0.5) * c_.dx;
-          add(p, zk, x, c_.rho0 * c_.section_volume[k], t, next_id);
+          add(p, zk, x, c_.rho0 * row.V, t, next_id);
         }
       return;
     }

@@ -79,21 +79,16 @@ public:
     bool fluid; // in the lumen (else wall)
   };
 
-  // The particles of slices x in [x_lo, x_lo + n_slices dx): lumen rings (when with_fluid) and
-  // wall rings thinner than `thickness`. Ordered by slice, then radius, then angle.
-  std::vector<Point> particles(double x_lo, int n_slices, double dx, double thickness,
-                               bool with_fluid = true) const {
+  // The particles of slices x in [x_lo, x_lo + n_slices dx): lumen rings and wall rings thinner
+  // than `thickness`. Ordered by slice, then radius, then angle.
+  std::vector<Point> particles(double x_lo, int n_slices, double dx, double thickness) const {
     std::vector<Point> out;
-    double R_max = 0.0;
-    for (const double R : R_)
-      R_max = std::max(R_max, R);
+    const double R_max = *std::max_element(R_.begin(), R_.end());
     for (int s = 0; s < n_slices; ++s) {
       const double xs = x_lo + (s + 0.5) * dx, R = radius(xs);
-      const int n_r = std::max(1, static_cast<int>(std::lround(R / dx)));
-      const double dr = R / n_r;
-      if (with_fluid)
-        for (int k = 0; k < n_r; ++k)
-          ring(out, xs, (k + 0.5) * dr, dr, dx, k, true);
+      const int n_r = ring_count(R, dx);
+      const auto lumen = section(xs, dx);
+      out.insert(out.end(), lumen.begin(), lumen.end());
       for (int k = 0;; ++k) {
         const double rho = R + (k + 0.5) * dx;
         if (rho > R_max + thickness + dx)
@@ -111,15 +106,25 @@ public:
   std::vector<Point> section(double x, double dx) const {
     std::vector<Point> out;
     const double R = radius(x);
-    const int n_r = std::max(1, static_cast<int>(std::lround(R / dx)));
+    const int n_r = ring_count(R, dx);
     const double dr = R / n_r;
     for (int k = 0; k < n_r; ++k)
       ring(out, x, (k + 0.5) * dr, dr, dx, k, true);
     return out;
   }
+  // The radial spacing of the lumen's rings in the slice at x.
+  double ring_spacing(double x, double dx) const {
+    const double R = radius(x);
+    return R / ring_count(R, dx);
+  }
 
 private:
   std::vector<double> x_, R_;
+
+  // Rings of the lumen of radius R: round(R / dx), at least one.
+  static int ring_count(double R, double dx) {
+    return std::max(1, static_cast<int>(std::lround(R / dx)));
+  }
 
   static void ring(std::vector<Point>& out, double xs, double rho, double dr, double dx, int k,
                    bool fluid) {

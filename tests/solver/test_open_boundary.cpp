@@ -210,7 +210,7 @@ TEST(BufferVelocity, ShepardAverageOfTheFluidsStreamComponentWithoutBackflow) {
     for (std::size_t i = 0; i < s.p.size(); ++i)
       s.p.v[i] = buffer(i) ? V2(9.0, 9.0) : V2(sign * (0.3 + 0.5 * s.p.r[i][1]), 0.2);
     const std::vector<V2> v0 = s.p.v;
-    BufferVelocity<2, decltype(buffer)> op{s.p.kind, s.p.v, buffer};
+    BufferVelocity<2> op{s.p.kind, s.p.v};
     interact(s.nl, op, buffer);
     int checked = 0;
     for (std::size_t i = 0; i < s.p.size(); ++i) {
