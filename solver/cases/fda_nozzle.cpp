@@ -11,7 +11,8 @@
 // upstream_length of inlet pipe before the cone, downstream_length of outlet pipe. Particles on
 // body-fitted rings (core/axisymmetric_duct.hpp), slices anchored at the expansion (x = 0 is a
 // slice boundary, so is the throat's start when 40 mm / dx is an integer), walls one kernel
-// support thick, at rest (no-slip by the scheme's wall treatment).
+// support thick, at rest (no-slip by the scheme's wall treatment), each with the wall's normal
+// into the fluid at its nearest point of the wall line (for wall_dissipation = normal).
 // Fluid: rho0 = 1056 kg/m^3, mu = 0.0035 Pa s (the benchmark's blood analogue); the throat's mean
 // velocity U_t = Re mu / (rho0 D_t) (0.4143 m/s at Re = 500), the flow rate Q = U_t pi R_t^2
 // (5.206e-6 m^3/s, the PIV files' value). Reference speed of the scheme U = 2 U_t (the throat's
@@ -123,6 +124,7 @@ public:
     const double x_lo = x_in_ - n_buf * dx_;
     const int zk = open_boundary::zone_field(p);
     const double x_end = x_out_ + layers_ * dx_;
+    const int nk = p.add_vector("normal");
     for (const auto& q : duct_.particles(x_lo, n_buf + n_in + n_out + n_buf, dx_, wall)) {
       const double x = q.r.x();
       const bool outlet = q.fluid && x > x_out_ && x < x_end;
@@ -132,6 +134,8 @@ public:
       const std::size_t k = p.add(q.r, rho_f * q.V, rho_f, kind);
       if (outlet)
         p.scalar(zk)[k] = 2.0;
+      if (kind == Kind::Wall)
+        p.vector(nk)[k] = duct_.wall_normal(q.r);
       if (kind == Kind::Fluid) {
         vol_fluid_ += q.V, ++n_fluid_;
         if (q.r.x() > -L_throat && q.r.x() < 0.0)
@@ -161,6 +165,7 @@ public:
     f.rho0 = rho_f, f.U = 2.0 * U_t_, f.L = 2.0 * R_throat,
     f.Re = 2.0 * get_real(prm_, "Re_throat");
     f.dx = dx_;
+    f.normal = nk; // the walls' normals, into the fluid (wall_dissipation = normal)
     // Whenever the scheme updates pressures: the inlet buffer's the fluid's Shepard average, the
     // outlet buffer's velocity the fluid's (its pressure is the disposer's p = 0).
     f.buffer_pressure = [](Particles<3>& q, const NeighborList<3>& nl) {

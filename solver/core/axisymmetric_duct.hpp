@@ -55,22 +55,40 @@ public:
   }
   bool in_lumen(double x, double rho) const { return rho < radius(x); }
 
-  // Distance in the meridian plane from (x, rho) to the wall line (extended as straight pipes
-  // beyond its ends).
-  double distance_to_wall(double x, double rho) const {
-    double d = std::numeric_limits<double>::infinity();
+  // The point of the wall line nearest to (x, rho) in the meridian plane (the line extended as
+  // straight pipes beyond its ends), and its distance.
+  struct WallPoint {
+    double x, rho, d;
+  };
+  WallPoint nearest_wall_point(double x, double rho) const {
+    WallPoint best{x, rho, std::numeric_limits<double>::infinity()};
     auto seg = [&](double x0, double r0, double x1, double r1) {
       const double ex = x1 - x0, er = r1 - r0, L2 = ex * ex + er * er;
       const double t =
           L2 > 0.0 ? std::clamp(((x - x0) * ex + (rho - r0) * er) / L2, 0.0, 1.0) : 0.0;
-      d = std::min(d, std::hypot(x - (x0 + t * ex), rho - (r0 + t * er)));
+      const double xp = x0 + t * ex, rp = r0 + t * er, d = std::hypot(x - xp, rho - rp);
+      if (d < best.d)
+        best = {xp, rp, d};
     };
     const double far = 1e6 * (x_.back() - x_.front() + R_.front() + R_.back());
     seg(x_.front() - far, R_.front(), x_.front(), R_.front());
     for (std::size_t k = 0; k + 1 < x_.size(); ++k)
       seg(x_[k], R_[k], x_[k + 1], R_[k + 1]);
     seg(x_.back(), R_.back(), x_.back() + far, R_.back());
-    return d;
+    return best;
+  }
+  double distance_to_wall(double x, double rho) const { return nearest_wall_point(x, rho).d; }
+
+  // The unit normal of the wall at a wall particle r (outside the lumen), pointing into the
+  // fluid: from r towards the nearest point of the wall line, in r's meridian plane (radially
+  // inward on a pipe, along the axis on a step's face, from the corner at a convex edge).
+  Vec3 wall_normal(const Vec3& r) const {
+    const double rho = std::hypot(r.y(), r.z());
+    const WallPoint w = nearest_wall_point(r.x(), rho);
+    if (!(w.d > 0.0))
+      throw std::invalid_argument("AxisymmetricDuct::wall_normal: the point is on the wall line");
+    const Vec3 e_rho = rho > 0.0 ? Vec3(0.0, r.y() / rho, r.z() / rho) : Vec3(0.0, 1.0, 0.0);
+    return (w.x - r.x()) / w.d * Vec3(1.0, 0.0, 0.0) + (w.rho - rho) / w.d * e_rho;
   }
 
   struct Point {

@@ -64,6 +64,35 @@ TEST(AxisymmetricDuct, SlicesHoldTheLumensVolumeAndWallsLieOutsideWithinTheirThi
   }
 }
 
+// The walls' normals (wall_dissipation = normal): unit vectors into the fluid, radially inward on
+// the pipes, perpendicular to the cone's line, along the axis on the step's face, from the corner
+// where the face meets the outlet pipe; and at every wall particle unit length, pointing to the
+// wall line.
+TEST(AxisymmetricDuct, WallNormalsPointIntoTheFluidPerpendicularToTheWallLine) {
+  const AxisymmetricDuct d({2.0, 6.0, 9.0, 9.0}, {3.0, 1.0, 1.0, 3.0});
+  const double s = std::sqrt(0.5);
+  auto expect = [](const Vec3& n, const Vec3& e) { EXPECT_NEAR((n - e).norm(), 0.0, 1e-12) << n; };
+  expect(d.wall_normal(Vec3(0.5, 0.0, 3.2)), Vec3(0.0, 0.0, -1.0));      // the inlet pipe
+  expect(d.wall_normal(Vec3(7.0, -s * 1.5, s * 1.5)), Vec3(0.0, s, -s)); // the throat
+  expect(d.wall_normal(Vec3(8.8, 2.0, 0.0)), Vec3(1.0, 0.0, 0.0));       // the step's face
+  expect(d.wall_normal(Vec3(8.7, 0.0, 1.05)), Vec3(0.0, 0.0, -1.0));     // throat, by the face
+  expect(d.wall_normal(Vec3(8.8, 0.0, 3.2)), Vec3(s, 0.0, -s)); // from the face's outer corner
+  // The cone (R from 3 to 1 over 4, the line's direction (2, -1) / sqrt(5) in (x, rho)): the
+  // normal into the fluid (-1, -2) / sqrt(5), inward and facing upstream.
+  const Vec3 nc = d.wall_normal(Vec3(4.0, 0.0, 2.0 + 0.5 * std::sqrt(5.0)));
+  expect(nc, Vec3(-1.0, 0.0, -2.0) / std::sqrt(5.0));
+  for (const auto& q : d.particles(0.0, 40, 0.3, 0.9)) {
+    if (q.fluid)
+      continue;
+    const Vec3 n = d.wall_normal(q.r);
+    EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+    const double rho = std::hypot(q.r.y(), q.r.z());
+    const double dw = d.distance_to_wall(q.r.x(), rho);
+    const Vec3 w = q.r + dw * n; // on the wall line
+    EXPECT_NEAR(d.distance_to_wall(w.x(), std::hypot(w.y(), w.z())), 0.0, 1e-9) << q.r;
+  }
+}
+
 TEST(FdaNozzle, ThroatAndLumenHaveTheBenchmarksVolumeAndTheInletImposesItsFlowRate) {
   Params prm = case_defaults("fda_nozzle", "wcsph_tvf");
   prm["dx"] = 0.001;
