@@ -16,6 +16,8 @@
 //   ke_rate             slope of the least-squares line of ln E_k(t) over all advection steps
 //   ke_rate_rel_err     |ke_rate - (-16 pi^2 / Re)| / (16 pi^2 / Re)
 //   ke_rel_err_end      |E_k(t_end) / (E_k(0) e^{-16 pi^2 t_end / Re}) - 1|
+//   ke_ratio_end        E_k(t_end) / (E_k(0) e^{-16 pi^2 t_end / Re}), signed: below 1 the run
+//                       has lost energy, above 1 it has dissipated too little
 //   umax_rel_err_end    ||v|max(t_end) / e^{b t_end} - 1|
 //   l1_vel_err_end      mean_i ||v_i| - |v_exact(r_i)|| / mean_i |v_exact(r_i)| (PySPH's "l1")
 //   tv_ratio_max        max over advection steps of max_i |Delta r^tvf_i| / Dt over max_i |v_i|:
@@ -148,7 +150,9 @@ public:
     const double wall = std::chrono::duration<double>(clock::now() - t0_).count();
     const double N = static_cast<double>(p_->size()), steps = static_cast<double>(at.steps);
     res.add("ke_rate_rel_err", std::abs(rate - rate_ex) / std::abs(rate_ex));
-    res.add("ke_rel_err_end", std::abs(ke_end / (ke0_ * std::exp(2.0 * b_ * t)) - 1.0));
+    const double ke_ratio = ke_end / (ke0_ * std::exp(2.0 * b_ * t));
+    res.add("ke_rel_err_end", std::abs(ke_ratio - 1.0));
+    res.add("ke_ratio_end", ke_ratio);
     res.add("umax_rel_err_end", std::abs(um_end / std::exp(b_ * t) - 1.0));
     res.add("l1_vel_err_end", l1 / l1_ref);
     res.add("tv_ratio_max", tv_ratio_max_);
@@ -265,6 +269,7 @@ CaseInfo make_taylor_green_case() {
       {"ke_rate_rel_err",
        "relative error of the fitted kinetic-energy decay rate against -16 pi^2 / Re"},
       {"ke_rel_err_end", "|E_k / E_k,exact - 1| at t_end"},
+      {"ke_ratio_end", "E_k / E_k,exact at t_end (< 1: energy lost, > 1: too little dissipated)"},
       {"umax_rel_err_end", "|max |v| / its analytic value - 1| at t_end"},
       {"l1_vel_err_end", "sum_i ||v_i| - |v_exact(r_i)|| / sum_i |v_exact(r_i)| at t_end"},
       {"tv_ratio_max",
