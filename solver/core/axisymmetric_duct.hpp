@@ -81,7 +81,8 @@ public:
 
   // The unit normal of the wall at a wall particle r (outside the lumen), pointing into the
   // fluid: from r towards the nearest point of the wall line, in r's meridian plane (radially
-  // inward on a pipe, along the axis on a step's face, from the corner at a convex edge).
+  // inward on a pipe, along the axis on a step's face; from the corner where the wall wraps
+  // around a corner of the fluid, as at a step face's outer edge).
   Vec3 wall_normal(const Vec3& r) const {
     const double rho = std::hypot(r.y(), r.z());
     const WallPoint w = nearest_wall_point(r.x(), rho);

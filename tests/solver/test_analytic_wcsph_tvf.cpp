@@ -62,7 +62,7 @@ TEST(AnalyticWcsphTvf, TaylorGreenViscousDecayRate) {
 // ratio of the two lattice eigenvalues for the mode, lambda(0) / lambda(0.01) = 1.0105 at
 // n = 40 (measured 1.0103; at n = 60 1.0114), and not by any other amount: a viscous force that did
 // not act as nu times its lattice eigenvalue on these particles (a disordered set, a wrong eps
-// scaling) would give another ratio. Tolerance 0.002, a fifth of the effect. About 1 s.
+// scaling) would give another ratio. Tolerance 0.002, a fifth of the effect. A few seconds.
 TEST(AnalyticWcsphTvf, TaylorGreenWithBAndTheLimitedShiftDecaysAtTheLatticeRateOfItsViscousForce) {
   const int n = 40;
   auto rate = [&](double eps) {
