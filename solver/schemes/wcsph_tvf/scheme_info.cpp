@@ -65,6 +65,10 @@ const ParamTable<Options>& table() {
                 {1.0, 1000.0})
           .real("cfl_ad", &Options::cfl_ad, "advection CFL number (eq. 9)", {0.0, 1.0, true})
           .real("cfl_ac", &Options::cfl_ac, "acoustic CFL number (eq. 11)", {0.0, 2.0, true})
+          .real("limiter_eta", &Options::limiter_eta,
+                "slope eta of the dissipation limiter beta = min((eta / c0) max(s u_ij, 0), 1) "
+                "(eq. 6; riemann_dissipation = limited)",
+                {0.0, 100.0})
           .real("tvf_alpha", &Options::tvf_alpha,
                 "coefficient alpha of the TVF shift alpha h^2 g (eq. 14)", {0.0, 10.0})
           .real("tvf_kappa", &Options::tvf_kappa,
