@@ -220,7 +220,7 @@ SchemeInfo make_wcsph_tvf_scheme() {
   for (auto& spec : s.params)
     if (spec.name == "shift_velocity" || spec.name == "riemann_density" ||
         spec.name == "wall_extrapolation" || spec.name == "substep_pairs" ||
-        spec.name == "wall_dissipation" || spec.name == "viscous_eps")
+        spec.name == "wall_dissipation" || spec.name == "viscous_eps" || spec.name == "limiter_eta")
       spec.neutral_default = true; // added later: the jobs without it keep their keys
   s.free_stream = true;
   s.moving_bodies = true;
