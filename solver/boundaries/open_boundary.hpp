@@ -102,12 +102,11 @@ struct BufferPressure {
 // Buffer velocity: a buffer particle i (those interact() selects) gets the stream component
 // (axis 0) of the Shepard average of its fluid neighbours' velocities, sum_j W_ij v_j,x /
 // sum_j W_ij, when it has a fluid neighbour (else it keeps its own): a zero normal gradient of the
-// outflow, for
-// an outlet whose flow is not known in advance (a disposer buffer behind fluid that starts at
-// rest). The transverse components are dropped and a backflow is cut to zero (u_x >= 0): buffer
-// particles are not integrated, so one that followed a recirculation upstream would sweep through
-// the fluid (the nozzle's first run diverged so at t = 0.14 s, its outlet inside the expansion's
-// recirculation).
+// outflow, for an outlet whose flow is not known in advance (a disposer buffer behind fluid that
+// starts at rest). The transverse components are dropped and a backflow is cut to zero (u_x >= 0):
+// buffer particles are not integrated, so one that followed a recirculation upstream would sweep
+// through the fluid (the nozzle's first run diverged so at t = 0.14 s, its outlet inside the
+// expansion's recirculation).
 template <int D>
 struct BufferVelocity {
   const std::vector<Kind>& kind;

@@ -62,6 +62,7 @@ struct Range {
 //       .choice("tvf", &Options::tvf, {{"none", Tvf::None}, {"limited", Tvf::Limited}}, "...");
 //   Options o = table.apply(params);   // every bound member set from the job's parameters
 //   table.specs();                     // name, type, default, range, doc for the runner
+// A parameter added later is followed by .neutral() (its default leaves old job keys as they were).
 //
 // The default of a parameter is the member's value in a default-constructed O.
 template <class O>
@@ -109,6 +110,14 @@ public:
         }
       throw std::invalid_argument("parameter '" + name + "': unknown value '" + t + "'");
     });
+    return *this;
+  }
+
+  // Marks the parameter declared last as neutral at its default (ParamSpec::neutral_default): one
+  // added to a scheme later, whose default reproduces the old behaviour, so the jobs that do not
+  // set it keep their keys.
+  ParamTable& neutral() {
+    specs_.back().neutral_default = true;
     return *this;
   }
 

@@ -57,11 +57,11 @@ const ParamTable<Options>& table() {
           .boolean("shifting", &Options::shifting, "artificial particle displacement (eqs. 18-19)")
           .real("h_over_dx", &Options::h_over_dx,
                 "smoothing length h / dx (quintic kernel, support 3h)", {0.5, 3.0})
-          .choice(
-              "coefficients", &Options::coefficients,
-              {{"double", Precision::Double}, {"float", Precision::Float}},
-              "storage of the cached pair coefficients V_j Gamma_i grad W_ij and the Laplacian "
-              "coefficient (float: half the bytes the inner iterations stream; sums in double)");
+          .choice("coefficients", &Options::coefficients,
+                  {{"double", Precision::Double}, {"float", Precision::Float}},
+                  "storage of the cached pair coefficients V_j Gamma_i grad W_ij and the Laplacian "
+                  "coefficient (float: half the bytes the inner iterations stream; sums in double)")
+          .neutral();
   return t;
 }
 
@@ -304,9 +304,6 @@ SchemeInfo make_alsph_scheme() {
   s.description = "Augmented-Lagrangian SPH, Algorithms 1 and 2 (Kolukisa, Ozbulut & Yildiz 2021, "
                   "Symmetry 13:472, section 2)";
   s.params = alsph::table().specs();
-  for (auto& spec : s.params)
-    if (spec.name == "coefficients")
-      spec.neutral_default = true; // added later: the jobs without it keep their keys
   s.slip_walls = true;
   s.make2 = &alsph::make2;
   return s;

@@ -30,9 +30,11 @@ const ParamTable<IsphOptions>& table() {
           .choice("visc_wall_velocity", &IsphOptions::visc_wall, wall_velocity_uses(),
                   "velocity of the wall particles in the viscous term: mirror (2 u_wall - Shepard "
                   "mean of the fluid, Adami et al. 2012) or prescribed (u_wall)")
+          .neutral()
           .choice("ppe_wall_velocity", &IsphOptions::ppe_wall, wall_velocity_uses(),
                   "velocity of the wall particles in div u* of the PPE source: prescribed (u_wall) "
                   "or mirror (2 u_wall - Shepard mean of the fluid)")
+          .neutral()
           .real("alpha_ppe", &IsphOptions::alpha_ppe,
                 "weight alpha of the density-invariance part of the mixed PPE source (seed 001 "
                 "eq. 13)",
@@ -65,7 +67,8 @@ const ParamTable<IsphOptions>& table() {
                 {0.0, 1.0})
           .boolean("wall_clearance_gaps", &IsphOptions::wall_clearance_gaps,
                    "keep the wall_clearance distance also from the midpoints of neighbouring wall "
-                   "particles (closes the gaps between them, which 0.5 dx leaves open)");
+                   "particles (closes the gaps between them, which 0.5 dx leaves open)")
+          .neutral();
   return t;
 }
 
@@ -164,10 +167,6 @@ SchemeInfo make_isph_scheme() {
   s.description = "ISPH two-step projection with VISC-01..04 viscous Laplacians "
                   "(Zheng, Ma & Shao 2018, section 2)";
   s.params = table().specs();
-  for (auto& spec : s.params)
-    if (spec.name == "visc_wall_velocity" || spec.name == "ppe_wall_velocity" ||
-        spec.name == "wall_clearance_gaps")
-      spec.neutral_default = true; // added later: the jobs without it keep their keys
   s.make2 = &make<2>;
   s.make3 = &make<3>;
   return s;

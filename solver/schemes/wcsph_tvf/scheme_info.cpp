@@ -43,20 +43,25 @@ const ParamTable<Options>& table() {
           .boolean("shift_velocity", &Options::shift_velocity,
                    "tvf = smoothing_length / limited: carry the velocity along the TVF shift, "
                    "v_i += (grad v_i) Delta r_i (a Taylor correction, not in Wang, Haidn & Hu)")
+          .neutral()
           .boolean("riemann_density", &Options::riemann_density,
                    "the continuity's Riemann term rho_i sum_j (p_i - p_j) / (rho0 c0) V_j dW_ij "
                    "(1st half; SPHinXsys: on)")
+          .neutral()
           .boolean("wall_extrapolation", &Options::wall_extrapolation,
                    "wall pressure p_w = p_i + rho_i r_iw max(0, (F_prior_i / m_i) . (-e_iw)); "
                    "false: p_w = p_i")
+          .neutral()
           .boolean("substep_pairs", &Options::substep_pairs,
                    "pair geometry (r_ij, W_ij, dW_ij) of the current positions at every acoustic "
                    "sub-step instead of frozen over the advection step (SPHinXsys: frozen)")
+          .neutral()
           .choice("wall_dissipation", &Options::wall_dissipation,
                   {{"pair", WallDissipation::Pair}, {"normal", WallDissipation::Normal}},
                   "Riemann dissipation of a wall pair: along e_iw (pair) or along the wall's "
                   "normal, none for tangential sliding (normal: SPHinXsys; needs the case's wall "
                   "normals, walls at rest or prescribed)")
+          .neutral()
           .string("kernel", &Options::kernel, "smoothing kernel",
                   {"wendland_c2", "cubic_spline", "quintic_spline"})
           .real("h_over_dx", &Options::h_over_dx, "smoothing length h / particle spacing dx",
@@ -69,6 +74,7 @@ const ParamTable<Options>& table() {
                 "slope eta of the dissipation limiter beta = min((eta / c0) max(s u_ij, 0), 1) "
                 "(eq. 6; riemann_dissipation = limited)",
                 {0.0, 100.0})
+          .neutral()
           .real("tvf_alpha", &Options::tvf_alpha,
                 "coefficient alpha of the TVF shift alpha h^2 g (eq. 14)", {0.0, 10.0})
           .real("tvf_kappa", &Options::tvf_kappa,
@@ -78,7 +84,8 @@ const ParamTable<Options>& table() {
           .real("viscous_eps", &Options::viscous_eps,
                 "eps of the viscous force's (v_i - v_j) / (r_ij + eps h) (SPHinXsys: 0.01; on a "
                 "lattice it lowers the viscosity by about 1 % per 0.01)",
-                {0.0, 1.0});
+                {0.0, 1.0})
+          .neutral();
   return t;
 }
 
@@ -217,11 +224,6 @@ SchemeInfo make_wcsph_tvf_scheme() {
   s.description = "Riemann WCSPH, dual-criteria time stepping and transport-velocity correction "
                   "with limiter (Wang, Haidn & Hu, arXiv:2411.13992)";
   s.params = wcsph_tvf::table().specs();
-  for (auto& spec : s.params)
-    if (spec.name == "shift_velocity" || spec.name == "riemann_density" ||
-        spec.name == "wall_extrapolation" || spec.name == "substep_pairs" ||
-        spec.name == "wall_dissipation" || spec.name == "viscous_eps" || spec.name == "limiter_eta")
-      spec.neutral_default = true; // added later: the jobs without it keep their keys
   s.free_stream = true;
   s.moving_bodies = true;
   s.make2 = &wcsph_tvf::make<2>;
