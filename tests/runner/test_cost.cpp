@@ -176,6 +176,30 @@ n_side = [40]
   EXPECT_CONTAINS(how, "per acoustic sub-step");
 }
 
+TEST(Cost, ACaseWithItsOwnPublishedRateIsPricedByItBeforeItsSchemesRate) {
+  auto job_of = [](const std::string& case_name) {
+    return expand(parse_study("[study]\nname = \"t\"\ncase = \"" + case_name +
+                                  "\"\nscheme = \"wcsph_tvf\"\n[params]\nt_end = 0.01\n",
+                              "t.toml"))
+        .jobs.at(0);
+  };
+  // Nothing in the database: the nozzle by its own published rate, the 3D cavity by the scheme's
+  // 3D rate (the nozzle's is a third of it).
+  const JobSpec nozzle = job_of("fda_nozzle"), cavity = job_of("lid_driven_cavity_3d");
+  auto ns = cost_size(nozzle), cs = cost_size(cavity);
+  ASSERT_TRUE(ns && cs);
+  ASSERT_EQ(ns->dim, 3);
+  std::string how;
+  EXPECT_NEAR(*estimate_job(nozzle, {}, &how),
+              2.41e-6 * ns->particles * ns->steps * ns->work_per_step,
+              1e-9 * *estimate_job(nozzle, {}));
+  EXPECT_CONTAINS(how, "published dx = 1 mm run");
+  EXPECT_NEAR(*estimate_job(cavity, {}, &how),
+              7.1e-6 * cs->particles * cs->steps * cs->work_per_step,
+              1e-9 * *estimate_job(cavity, {}));
+  EXPECT_CONTAINS(how, "3D cavity runs");
+}
+
 TEST(Cost, FormatsCostsInReadableUnits) {
   EXPECT_EQ(format_cost(7465.0 * 3600), "7465 CPU hours");
   EXPECT_EQ(format_cost(2.95 * 3600), "2.95 CPU hours");
