@@ -143,6 +143,12 @@ TEST(Isph, WallClearanceMovesAndCountsTheParticle) {
         }
       }
     EXPECT_EQ(s.clearance_corrections(), clearance > 0.0 ? 1 : 0);
+    // When and where it fired first (step 0, the particle's corrected position), in one step.
+    EXPECT_EQ(s.clearance_steps(), clearance > 0.0 ? 1 : 0);
+    EXPECT_EQ(s.clearance_first_step(), clearance > 0.0 ? 0 : -1);
+    if (clearance > 0.0)
+      EXPECT_NEAR((s.clearance_first_r() - (wall + Vec2(0.0, 0.5 * g.dx))).norm(), 0.0,
+                  1e-3 * g.dx);
   }
 }
 

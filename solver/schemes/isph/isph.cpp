@@ -136,6 +136,16 @@ public:
     res.add("ppe_iters_mean", static_cast<double>(s_->iterations_total()) / steps);
     res.add("ppe_residual", s_->ppe_residual());
     res.add("wall_clearance_corrections", static_cast<double>(s_->clearance_corrections()));
+    // Where the net fired first (not recorded when it never fired), and in how many steps.
+    res.add("wall_clearance_steps", static_cast<double>(s_->clearance_steps()));
+    if (s_->clearance_first_step() >= 0) {
+      res.add("wall_clearance_first_t",
+              static_cast<double>(s_->clearance_first_step() + 1) * s_->dt());
+      res.add("wall_clearance_first_x", s_->clearance_first_r().x());
+      res.add("wall_clearance_first_y", s_->clearance_first_r().y());
+      if constexpr (D == 3)
+        res.add("wall_clearance_first_z", s_->clearance_first_r().z());
+    }
   }
   long work_steps() const override { return s_->steps(); }
 

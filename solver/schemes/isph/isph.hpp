@@ -353,16 +353,24 @@ public:
                           div_rms_};
     for (int k = 0; k < D; ++k)
       s.push_back(div_argmax_[k]);
+    s.push_back(static_cast<double>(clearance_first_step_));
+    s.push_back(static_cast<double>(clearance_steps_));
+    for (int k = 0; k < D; ++k)
+      s.push_back(clearance_first_r_[k]);
     return s;
   }
   void restore_carried_state(const std::vector<double>& s) {
-    io::expect_state_size(s, 9 + D, "isph: checkpoint state");
+    io::expect_state_size(s, 11 + 2 * D, "isph: checkpoint state");
     steps_ = static_cast<long>(s[0]), iters_total_ = static_cast<long>(s[1]);
     clearance_corrections_ = static_cast<long>(s[2]);
     time_step_ = s[3], time_assemble_ = s[4], time_solve_ = s[5];
     last_iters_ = static_cast<int>(s[6]), div_max_ = s[7], div_rms_ = s[8];
     for (int k = 0; k < D; ++k)
       div_argmax_[k] = s[9 + k];
+    clearance_first_step_ = static_cast<long>(s[9 + D]);
+    clearance_steps_ = static_cast<long>(s[10 + D]);
+    for (int k = 0; k < D; ++k)
+      clearance_first_r_[k] = s[11 + D + k];
   }
 
   // Recomputes the wall velocities of the current configuration (for diagnostics).
@@ -405,8 +413,22 @@ public:
   long steps() const {
     return steps_;
   }
+  double dt() const {
+    return dt_;
+  }
   long clearance_corrections() const {
     return clearance_corrections_;
+  }
+  // Where and when the safety net first fired (the step index, -1 if never, and the corrected
+  // particle of lowest index at its corrected position), and in how many steps it fired.
+  long clearance_first_step() const {
+    return clearance_first_step_;
+  }
+  const Vec<D>& clearance_first_r() const {
+    return clearance_first_r_;
+  }
+  long clearance_steps() const {
+    return clearance_steps_;
   }
   double time_step() const {
     return time_step_;
@@ -449,6 +471,8 @@ private:
   Vec<D> div_argmax_ = Vec<D>::Zero();
   int last_iters_ = 0;
   long steps_ = 0, iters_total_ = 0, clearance_corrections_ = 0;
+  long clearance_first_step_ = -1, clearance_steps_ = 0;
+  Vec<D> clearance_first_r_ = Vec<D>::Zero();
   double time_step_ = 0.0, time_assemble_ = 0.0, time_solve_ = 0.0;
 
   // Safety net against wall penetration (not in the paper): a fluid particle that ends the step
@@ -461,6 +485,7 @@ private:
       return;
     const std::size_t N = p_.size();
     long count = 0;
+    std::size_t first = N; // the corrected particle of lowest index
     // Pushes fluid particle i to distance dmin from the point x (wall particles do not move).
     auto keep_from = [&](std::size_t i, const Vec<D>& x) {
       const Vec<D> d = p_.r[i] - x;
@@ -478,15 +503,18 @@ private:
     // both ends within dmin + sqrt(D) dx / 2 of it (inside the kernel support).
     const double pair_max = std::sqrt(static_cast<double>(D)) * dx_ * (1.0 + 1e-9);
     const double near_max = dmin + 0.5 * pair_max;
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : count)
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : count) reduction(min : first)
     for (std::size_t i = 0; i < N; ++i) {
       if (!isph_ops::is_fluid(p_.kind[i]))
         continue;
+      const long before = count;
       for (std::uint32_t q = nl_.offset[i]; q < nl_.offset[i + 1]; ++q) {
         const std::uint32_t j = nl_.j[q];
         if (!isph_ops::is_fluid(p_.kind[j]))
           count += keep_from(i, p_.r[j]);
       }
+      if (count > before)
+        first = std::min(first, i);
       if (!opt_.wall_clearance_gaps)
         continue;
       std::uint32_t near[64];
@@ -500,8 +528,15 @@ private:
         for (int b = a + 1; b < n_near; ++b)
           if ((p_.r[near[a]] - p_.r[near[b]]).norm() <= pair_max)
             count += keep_from(i, 0.5 * (p_.r[near[a]] + p_.r[near[b]]));
+      if (count > before)
+        first = std::min(first, i);
     }
     clearance_corrections_ += count;
+    if (count > 0) {
+      ++clearance_steps_;
+      if (clearance_first_step_ < 0)
+        clearance_first_step_ = steps_, clearance_first_r_ = p_.r[first];
+    }
   }
 
   // The velocity field of the viscous term: the particles' own (walls: the no-slip mirror of
