@@ -507,28 +507,27 @@ private:
     for (std::size_t i = 0; i < N; ++i) {
       if (!isph_ops::is_fluid(p_.kind[i]))
         continue;
-      const long before = count;
+      int c = 0; // the corrections of particle i
       for (std::uint32_t q = nl_.offset[i]; q < nl_.offset[i + 1]; ++q) {
         const std::uint32_t j = nl_.j[q];
         if (!isph_ops::is_fluid(p_.kind[j]))
-          count += keep_from(i, p_.r[j]);
+          c += keep_from(i, p_.r[j]);
       }
-      if (count > before)
-        first = std::min(first, i);
-      if (!opt_.wall_clearance_gaps)
-        continue;
-      std::uint32_t near[64];
-      int n_near = 0;
-      for (std::uint32_t q = nl_.offset[i]; q < nl_.offset[i + 1] && n_near < 64; ++q) {
-        const std::uint32_t j = nl_.j[q];
-        if (!isph_ops::is_fluid(p_.kind[j]) && (p_.r[i] - p_.r[j]).norm() < near_max)
-          near[n_near++] = j;
+      if (opt_.wall_clearance_gaps) {
+        std::uint32_t near[64];
+        int n_near = 0;
+        for (std::uint32_t q = nl_.offset[i]; q < nl_.offset[i + 1] && n_near < 64; ++q) {
+          const std::uint32_t j = nl_.j[q];
+          if (!isph_ops::is_fluid(p_.kind[j]) && (p_.r[i] - p_.r[j]).norm() < near_max)
+            near[n_near++] = j;
+        }
+        for (int a = 0; a < n_near; ++a)
+          for (int b = a + 1; b < n_near; ++b)
+            if ((p_.r[near[a]] - p_.r[near[b]]).norm() <= pair_max)
+              c += keep_from(i, 0.5 * (p_.r[near[a]] + p_.r[near[b]]));
       }
-      for (int a = 0; a < n_near; ++a)
-        for (int b = a + 1; b < n_near; ++b)
-          if ((p_.r[near[a]] - p_.r[near[b]]).norm() <= pair_max)
-            count += keep_from(i, 0.5 * (p_.r[near[a]] + p_.r[near[b]]));
-      if (count > before)
+      count += c;
+      if (c > 0)
         first = std::min(first, i);
     }
     clearance_corrections_ += count;
