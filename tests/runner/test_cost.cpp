@@ -190,13 +190,11 @@ TEST(Cost, ACaseWithItsOwnPublishedRateIsPricedByItBeforeItsSchemesRate) {
   ASSERT_TRUE(ns && cs);
   ASSERT_EQ(ns->dim, 3);
   std::string how;
-  EXPECT_NEAR(*estimate_job(nozzle, {}, &how),
-              2.41e-6 * ns->particles * ns->steps * ns->work_per_step,
-              1e-9 * *estimate_job(nozzle, {}));
+  const double n_work = ns->particles * ns->steps * ns->work_per_step;
+  EXPECT_NEAR(*estimate_job(nozzle, {}, &how), 2.41e-6 * n_work, 1e-9 * 2.41e-6 * n_work);
   EXPECT_CONTAINS(how, "published dx = 1 mm run");
-  EXPECT_NEAR(*estimate_job(cavity, {}, &how),
-              7.1e-6 * cs->particles * cs->steps * cs->work_per_step,
-              1e-9 * *estimate_job(cavity, {}));
+  const double c_work = cs->particles * cs->steps * cs->work_per_step;
+  EXPECT_NEAR(*estimate_job(cavity, {}, &how), 7.1e-6 * c_work, 1e-9 * 7.1e-6 * c_work);
   EXPECT_CONTAINS(how, "3D cavity runs");
 }
 
