@@ -27,6 +27,7 @@ import os
 import re
 import sys
 
+import h5py
 import numpy as np
 
 TYPES = {"Float64": np.float64, "UInt8": np.uint8, "Int64": np.int64}
@@ -106,7 +107,6 @@ def main(argv):
     print(f"{len(t)} snapshots, t = {t[0]:.3f} .. {t[-1]:.3f}; {len(ids)} wall particles on the body; "
           f"Re = {prm['Re']}, c0 = {c0} U, H/dx = {prm['H_over_dx']}")
     print(f"C_L mean {CL.mean():.3f} std {CL.std():.3f};  C_D mean {CD.mean():.3f} std {CD.std():.3f}  (snapshots)")
-    import h5py
     h = h5py.File(glob.glob(os.path.join(job, "*.h5"))[0], "r")
     st = h["series/t"][:]
     w = st >= t0
@@ -122,8 +122,8 @@ def main(argv):
     sums = {}
     for name, m in parts.items():
         fy = F[:, m, 1]
-        sums[name] = fy.sum(1)
-        print(f"{name:17s} {m.sum():5d} {fy.sum(1).mean():8.3f} {fy.sum(1).std():7.3f} {np.sqrt((fy.std(0) ** 2).sum()):7.3f}")
+        sums[name] = S = fy.sum(1)
+        print(f"{name:17s} {m.sum():5d} {S.mean():8.3f} {S.std():7.3f} {np.sqrt((fy.std(0) ** 2).sum()):7.3f}")
     print(f"correlation of the beam's upper and lower faces' lift: "
           f"{np.corrcoef(sums['beam, upper face'], sums['beam, lower face'])[0, 1]:.2f}")
     print("probe (x, y)   u mean  v mean   |dv| std  p mean  p std   rho c0 |dv|")
