@@ -2,12 +2,12 @@
 """Where and how a diverging cavity job's flow breaks down, from its particle snapshots.
 
 For each of the last N snapshots (default 30) of a job folder (particles/*.vtp, written with
-output_interval > 0; not part of the job key, so a rerun with it is the same job), prints a CSV row: the time
-t; the fastest fluid particle (v_max, its x, y and id); the smallest fluid-fluid nearest-neighbour
-distance (nn_min, where: nn_x, nn_y); the count of fluid particles closer than 0.6 dx to another
-(n_close); the smallest fluid-to-wall-particle distance (wall_min); the spread of the fluid
-pressure (p_spread, max - min): enough to tell a particle
-that accelerates along a wall from a pair that collapses or a particle that leaks into the wall.
+output_interval > 0, which is not part of the job key: a rerun with it is the same job), one CSV
+row: the time t; the fastest fluid particle (v_max, its x, y and id); the smallest fluid-fluid
+nearest-neighbour distance (nn_min, at nn_x, nn_y); the count of fluid particles closer than
+0.6 dx to another (n_close); the smallest fluid-to-wall-particle distance (wall_min); the spread
+of the fluid pressure (p_spread, max - min). Enough to tell a particle that accelerates along a
+wall from a pair that collapses or a particle that leaks into the wall.
 
     scripts/isph_divergence_track.py JOB_DIR DX [N]
 
