@@ -24,32 +24,13 @@ the reaction of the very pair terms the fluid felt, in units of 1/2 rho U^2 D):
 import glob
 import json
 import os
-import re
 import sys
 
 import h5py
 import numpy as np
 
-TYPES = {"Float64": np.float64, "UInt8": np.uint8, "Int64": np.int64}
-
-
-def read_vtp(path, names):
-    """The named point arrays of one raw-appended VTK PolyData snapshot (solver/io/
-    particle_snapshot.cpp writes them: UInt64 byte count, then the data)."""
-    b = open(path, "rb").read()
-    k = b.index(b'<AppendedData encoding="raw">')
-    head = b[:k].decode()
-    base = b.index(b"_", k) + 1
-    out = {"t": float(re.search(r'Name="TimeValue"[^>]*>([^<]*)<', head).group(1))}
-    pat = r'<DataArray type="(\w+)" Name="([^"]+)" NumberOfComponents="(\d+)" format="appended" offset="(\d+)"'
-    for m in re.finditer(pat, head):
-        ty, name, nc, off = m.group(1), m.group(2), int(m.group(3)), int(m.group(4))
-        if name in names:
-            o = base + off
-            n = int(np.frombuffer(b[o:o + 8], np.uint64)[0])
-            a = np.frombuffer(b[o + 8:o + 8 + n], TYPES[ty])
-            out[name] = a.reshape(-1, nc) if nc > 1 else a
-    return out
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from snapshots import read_vtp  # noqa: E402
 
 
 def peaks(t, s, n=5, sep=0.08):

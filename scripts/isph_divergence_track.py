@@ -20,7 +20,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fsi_force_noise import read_vtp  # noqa: E402  (the project's reader of its snapshots)
+from snapshots import read_vtp  # noqa: E402
 
 
 def nearest(a, b, same):
