@@ -28,9 +28,7 @@ import sys
 
 import h5py
 import numpy as np
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from snapshots import read_vtp  # noqa: E402
+from snapshots import read_vtp, snapshot_files
 
 
 def peaks(t, s, n=5, sep=0.08):
@@ -58,7 +56,7 @@ def main(argv):
     t0 = float(argv[argv.index("--t0") + 1]) if "--t0" in argv else prm["settle_fraction"] * prm["t_end"]
     c0 = prm["c0_factor"] * 1.0  # U = 1
     q = 0.5 * 1.0 * 1.0 * 0.1    # 1/2 rho U^2 D
-    files = sorted(glob.glob(os.path.join(job, "particles", "particles_*.vtp")))
+    files = snapshot_files(job)
     names = {"Points", "id", "kind", "fsi_beam/body", "wall_force", "velocity", "pressure"}
     probes = [(0.1, 0.2), (0.2, 0.3), (0.45, 0.25), (0.7, 0.2), (1.0, 0.2), (1.5, 0.2), (2.2, 0.2)]
     ts, F, pv, pp = [], [], {p: [] for p in probes}, {p: [] for p in probes}

@@ -13,14 +13,10 @@ wall from a pair that collapses or a particle that leaks into the wall.
 
 Distances are in units of DX (the job's dx). Needs numpy only.
 """
-import glob
-import os
 import sys
 
 import numpy as np
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from snapshots import read_vtp  # noqa: E402
+from snapshots import read_vtp, snapshot_files
 
 
 def nearest(a, b, same):
@@ -39,7 +35,7 @@ def main(argv):
         sys.exit(__doc__)
     job, dx = argv[0], float(argv[1])
     n = int(argv[2]) if len(argv) > 2 else 30
-    files = sorted(glob.glob(os.path.join(job, "particles", "*.vtp")))
+    files = snapshot_files(job)
     if not files:
         sys.exit(f"{job}: no particles/*.vtp (run the job with output_interval > 0)")
     print("t,v_max,x,y,id,nn_min,nn_x,nn_y,n_close,wall_min,p_spread")

@@ -1,6 +1,8 @@
 """Reading the particle snapshots a job writes (particles/*.vtp, solver/io/particle_snapshot.cpp:
 VTK PolyData with raw appended arrays, each a UInt64 byte count and then the data), with numpy
-only; shared by the analysis scripts beside it."""
+only; shared by the analysis scripts beside it (run as scripts, their folder is on sys.path)."""
+import glob
+import os
 import re
 
 import numpy as np
@@ -25,3 +27,8 @@ def read_vtp(path, names):
             a = np.frombuffer(b[o + 8:o + 8 + n], TYPES[ty])
             out[name] = a.reshape(-1, nc) if nc > 1 else a
     return out
+
+
+def snapshot_files(job):
+    """A job folder's snapshots in time order (particles/particles_NNNNNN.vtp)."""
+    return sorted(glob.glob(os.path.join(job, "particles", "particles_*.vtp")))

@@ -12,26 +12,19 @@ u = -cos(2 pi x) sin(2 pi y), v = sin(2 pi x) cos(2 pi y), and the smallest neig
 The snapshot is written after the step's shift, so it shows the residue the next step acts on.
 
 Usage: /usr/bin/python3 scripts/tvf_residue.py [--dx DX] [--kappa K] [--alpha A] FILE.vtp ...
-Needs Debian's python3-vtk9, python3-scipy, python3-numpy.
+Needs Debian's python3-scipy and python3-numpy.
 """
 import argparse
 
 import numpy as np
-import vtk
 from scipy.spatial import cKDTree
-from vtk.util.numpy_support import vtk_to_numpy
+from snapshots import read_vtp
 
 
 def load(fn):
-    r = vtk.vtkXMLPolyDataReader()
-    r.SetFileName(fn)
-    r.Update()
-    d = r.GetOutput()
-    pd = d.GetPointData()
-    get = lambda n: vtk_to_numpy(pd.GetArray(n))
-    t = d.GetFieldData().GetArray("TimeValue").GetValue(0)
-    return (vtk_to_numpy(d.GetPoints().GetData())[:, :2], get("velocity")[:, :2], get("volume"),
-            get("smoothing_length")[0], t)
+    s = read_vtp(fn, {"Points", "velocity", "volume", "smoothing_length"})
+    return (s["Points"][:, :2], s["velocity"][:, :2], s["volume"], s["smoothing_length"][0],
+            s["t"])
 
 
 def dW_dr(r, h):  # Wendland C2, 2D: W = 7 / (4 pi h^2) (1 - q/2)^4 (1 + 2q), q = r / h
