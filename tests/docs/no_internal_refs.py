@@ -70,18 +70,21 @@ def files(root):
     return [p for p in found if p.is_file()]
 
 
+def located(path, text):
+    """(line, rule, match) of every internal reference in a file's text."""
+    text = scannable_text(path, text)
+    return [(text.count("\n", 0, at) + 1, rule, match) for at, rule, match in findings(text)]
+
+
 def scan(root):
-    paths = files(root)
-    if not paths or not (root / "README.md").is_file():
+    if not (root / "README.md").is_file():
         print(f"no README.md under {root}: not a repository root")
         return 2
+    paths = files(root)
     bad = 0
     for p in paths:
-        text = scannable_text(p, p.read_text(encoding="utf-8", errors="replace"))
-        for at, rule, match in findings(text):
-            line = text.count("\n", 0, at) + 1
-            shown = " ".join(match.split())
-            print(f"{p.relative_to(root)}:{line}: [{rule}] {shown}")
+        for line, rule, match in located(p, p.read_text(encoding="utf-8", errors="replace")):
+            print(f"{p.relative_to(root)}:{line}: [{rule}] {' '.join(match.split())}")
             bad += 1
     print(f"{len(paths)} files scanned, {bad} internal reference(s) found")
     return 1 if bad else 0
@@ -135,9 +138,7 @@ def self_test():
                   f"found {sorted(got) or 'nothing'}")
     # A CSV file: comment lines are read, data rows are not.
     csv_text = "# Wang, Haidn & Hu, seed 002, Table 2\nsource,value\nseed 002 (present),0.790\n"
-    got = [(text_line, rule) for text_line, rule in
-           ((scannable_text(pathlib.Path("x.csv"), csv_text).count("\n", 0, at) + 1, rule)
-            for at, rule, _ in findings(scannable_text(pathlib.Path("x.csv"), csv_text)))]
+    got = [(line, rule) for line, rule, _ in located(pathlib.Path("x.csv"), csv_text)]
     if got != [(1, "seed")]:
         failed += 1
         print(f"self-test csv: expected [(1, 'seed')], found {got}")
